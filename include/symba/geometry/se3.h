@@ -78,11 +78,39 @@ Rigid3<T> ExpSE3(const Vector6<T>& xi) {
   return Rigid3<T>(ExpSO3(omega), SO3LeftJacobian(omega) * rho);
 }
 
+// The logarithm reuses the quaternion's half angle: with q = [w, v] (w >= 0),
+// s = |v|, theta/2 = atan2(s, w) and (theta/2) cot(theta/2) = (theta/2) w / s,
+// so V^-1 t = t - omega x t / 2 + C omega x (omega x t) needs one atan2 and
+// no 3 x 3 matrix (this runs once per mixture component per evaluation).
 template <typename T>
 Vector6<T> LogSE3(const Rigid3<T>& T_ab) {
-  const Vector3<T> omega = LogSO3(T_ab.q);
+  using std::atan2;
+  using std::sqrt;
+  const bool flip = T_ab.q.w() < T(0);
+  const T w = flip ? T(-T_ab.q.w()) : T_ab.q.w();
+  const Vector3<T> v = flip ? Vector3<T>(-T_ab.q.vec()) : T_ab.q.vec();
+  const T s_sq = v.squaredNorm();
+  Vector3<T> omega;
+  T c;  // C(theta) of V^-1
+  if (s_sq < T(kSmallAngleSquared)) {
+    omega = (T(2) / w * (T(1) - s_sq / (T(3) * w * w))) * v;
+    const T theta_sq = omega.squaredNorm();
+    c = T(1.0 / 12.0) + theta_sq / T(720) + theta_sq * theta_sq / T(30240);
+  } else {
+    const T s = sqrt(s_sq);
+    const T half_theta = atan2(s, w);
+    omega = (T(2) * half_theta / s) * v;
+    const T theta_sq = T(4) * half_theta * half_theta;
+    if (theta_sq < T(kSeriesAngleSquared)) {
+      c = T(1.0 / 12.0) + theta_sq / T(720) + theta_sq * theta_sq / T(30240);
+    } else {
+      c = (T(1) - half_theta * w / s) / theta_sq;
+    }
+  }
+  const Vector3<T> omega_x_t = omega.cross(T_ab.t);
   Vector6<T> xi;
-  xi.template head<3>() = SO3LeftJacobianInverse(omega) * T_ab.t;
+  xi.template head<3>() =
+      T_ab.t - T(0.5) * omega_x_t + c * omega.cross(omega_x_t);
   xi.template tail<3>() = omega;
   return xi;
 }

@@ -1,0 +1,199 @@
+// MaxMixtureCostFunction: a max-mixture of Gaussian components (Olson and
+// Agarwal, IJRR 2013) as one Ceres cost function (docs/method.md, Eq. 11-13).
+//
+// Component j has a whitened residual r_j = L_j e_j(x) (the model's rows) and
+// weight w_j (normalised so that sum_j w_j = 1). Its negative log-likelihood,
+// up to a constant shared by all components, is
+//
+//   c_j(x) = 0.5 |r_j(x)|^2 + k_j,        k_j = -log(w_j |det L_j|)
+//
+// The max-mixture keeps the most likely component, j* = argmin_j c_j(x),
+// re-selected at every evaluation. In least squares it is realised as the
+// winner's residual plus one normalisation row:
+//
+//   residual(x) = [ r_j*(x) ; sqrt(2 (k_j* - k_min)) ],  k_min = min_j k_j
+//   0.5 |residual|^2 = c_j*(x) - k_min
+//
+// so a less likely component pays its log-likelihood handicap and the cost is
+// continuous where the winner switches. The normalisation row does not depend
+// on x (its Jacobian row is zero).
+//
+// Optional null hypothesis (MixtureOptions): a component with weight w_0 and
+// covariance inflated by sigma_scale^2 around the nearest component (the one
+// with the smallest |r_j|): r_0 = r_near / sigma_scale, k_0 = -log(w_0) -
+// log|det L_near| + d log(sigma_scale), d = the model's mixture rows. It bounds
+// the pull of a wrong association.
+//
+// Speed: the winner is chosen in plain doubles through the model's
+// MixtureSquaredNorm (no Jets); only the winner's pre-built autodiff cost
+// function is differentiated. Evaluate allocates nothing.
+//
+// A Model provides (see asymmetric_object_edge.h for an example):
+//   static constexpr int kNumResiduals;  // rows of one component
+//   static constexpr int kMixtureRows;   // leading rows that differ per
+//   component struct Prepared;                     // per-evaluation shared
+//   doubles int NumComponents() const; double Weight(int j) const;          //
+//   > 0 double LogDetSqrtInfo(int j) const;  // log |det L_j| of the mixture
+//   rows bool Prepare(double const* const* parameters, Prepared*) const; double
+//   MixtureSquaredNorm(const Prepared&, int j) const;  // |r_j|^2 rows const
+//   ceres::CostFunction& Component(int j) const;  // autodiff, all rows
+// Rows past kMixtureRows are shared by all components (e.g. the continuous
+// edge's axis term) and are not scaled by the null hypothesis.
+#ifndef SYMBA_FACTORS_MAX_MIXTURE_H_
+#define SYMBA_FACTORS_MAX_MIXTURE_H_
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include <ceres/sized_cost_function.h>
+
+namespace symba {
+
+struct MixtureOptions {
+  // Add the null-hypothesis component.
+  bool use_null_hypothesis = false;
+  // Its weight, relative to the hypotheses' weights normalised to sum 1.
+  double null_weight = 1e-3;
+  // Its standard deviations are the nearest component's times this (> 1).
+  double null_sigma_scale = 10.0;
+
+  bool IsValid() const {
+    return !use_null_hypothesis ||
+           (std::isfinite(null_weight) && null_weight > 0.0 &&
+            std::isfinite(null_sigma_scale) && null_sigma_scale > 1.0);
+  }
+};
+
+// Which component a max-mixture picked at some parameters.
+struct MixtureSelection {
+  int component = -1;         // the hypothesis index (the nearest for null)
+  bool is_null = false;       // the null hypothesis won
+  double log_normalizer = 0;  // k of the winner
+  double cost = 0;            // c of the winner, before subtracting k_min
+};
+
+template <typename Model, int... kBlockSizes>
+class MaxMixtureCostFunction final
+    : public ceres::SizedCostFunction<Model::kNumResiduals + 1,
+                                      kBlockSizes...> {
+ public:
+  static constexpr int kNumResiduals = Model::kNumResiduals + 1;
+  static constexpr int kMixtureRows = Model::kMixtureRows;
+  static constexpr int kBlockSizeArray[] = {kBlockSizes...};
+  static_assert(kMixtureRows <= Model::kNumResiduals,
+                "mixture rows must lead the component's rows");
+
+  // The model must have at least one component with positive weights and
+  // finite log-determinants (the edges' Create functions validate this).
+  MaxMixtureCostFunction(Model model, const MixtureOptions& options)
+      : model_(std::move(model)), options_(options) {
+    const int n = model_.NumComponents();
+    double weight_sum = 0.0;
+    for (int j = 0; j < n; ++j) weight_sum += model_.Weight(j);
+    log_normalizers_.resize(n);
+    min_log_normalizer_ = std::numeric_limits<double>::infinity();
+    for (int j = 0; j < n; ++j) {
+      log_normalizers_[j] =
+          -std::log(model_.Weight(j) / weight_sum) - model_.LogDetSqrtInfo(j);
+      min_log_normalizer_ = std::min(min_log_normalizer_, log_normalizers_[j]);
+      if (options_.use_null_hypothesis) {
+        min_log_normalizer_ = std::min(min_log_normalizer_, NullNormalizer(j));
+      }
+    }
+  }
+
+  const Model& model() const { return model_; }
+
+  // The winning component at `parameters`, chosen in doubles. Returns false
+  // when the model cannot evaluate there (e.g. non-finite parameters).
+  bool Select(double const* const* parameters,
+              MixtureSelection* selection) const {
+    typename Model::Prepared prepared;
+    if (!model_.Prepare(parameters, &prepared)) return false;
+    double best_cost = std::numeric_limits<double>::infinity();
+    double nearest_squared_norm = std::numeric_limits<double>::infinity();
+    int best = -1;
+    int nearest = -1;
+    const int n = model_.NumComponents();
+    for (int j = 0; j < n; ++j) {
+      const double squared_norm = model_.MixtureSquaredNorm(prepared, j);
+      const double cost = 0.5 * squared_norm + log_normalizers_[j];
+      if (cost < best_cost) {
+        best_cost = cost;
+        best = j;
+      }
+      if (squared_norm < nearest_squared_norm) {
+        nearest_squared_norm = squared_norm;
+        nearest = j;
+      }
+    }
+    if (best < 0 || !std::isfinite(best_cost)) return false;
+    selection->component = best;
+    selection->is_null = false;
+    selection->log_normalizer = log_normalizers_[best];
+    selection->cost = best_cost;
+    if (options_.use_null_hypothesis) {
+      const double scale = 1.0 / options_.null_sigma_scale;
+      const double null_cost =
+          0.5 * scale * scale * nearest_squared_norm + NullNormalizer(nearest);
+      if (null_cost < best_cost) {
+        selection->component = nearest;
+        selection->is_null = true;
+        selection->log_normalizer = NullNormalizer(nearest);
+        selection->cost = null_cost;
+      }
+    }
+    return true;
+  }
+
+  bool Evaluate(double const* const* parameters,
+                double* residuals,
+                double** jacobians) const override {
+    MixtureSelection selection;
+    if (!Select(parameters, &selection)) return false;
+    if (!model_.Component(selection.component)
+             .Evaluate(parameters, residuals, jacobians)) {
+      return false;
+    }
+    if (selection.is_null) ScaleMixtureRows(residuals, jacobians);
+    residuals[kNumResiduals - 1] = std::sqrt(
+        2.0 * std::max(0.0, selection.log_normalizer - min_log_normalizer_));
+    if (jacobians != nullptr) {
+      for (int b = 0; b < static_cast<int>(sizeof...(kBlockSizes)); ++b) {
+        if (jacobians[b] == nullptr) continue;
+        const int size = kBlockSizeArray[b];
+        std::fill_n(jacobians[b] + (kNumResiduals - 1) * size, size, 0.0);
+      }
+    }
+    return true;
+  }
+
+ private:
+  double NullNormalizer(int j) const {
+    return -std::log(options_.null_weight) - model_.LogDetSqrtInfo(j) +
+           kMixtureRows * std::log(options_.null_sigma_scale);
+  }
+
+  void ScaleMixtureRows(double* residuals, double** jacobians) const {
+    const double scale = 1.0 / options_.null_sigma_scale;
+    for (int i = 0; i < kMixtureRows; ++i) residuals[i] *= scale;
+    if (jacobians == nullptr) return;
+    for (int b = 0; b < static_cast<int>(sizeof...(kBlockSizes)); ++b) {
+      if (jacobians[b] == nullptr) continue;
+      const int size = kBlockSizeArray[b];
+      for (int i = 0; i < kMixtureRows * size; ++i) jacobians[b][i] *= scale;
+    }
+  }
+
+  Model model_;
+  MixtureOptions options_;
+  std::vector<double> log_normalizers_;
+  double min_log_normalizer_ = 0.0;
+};
+
+}  // namespace symba
+
+#endif  // SYMBA_FACTORS_MAX_MIXTURE_H_

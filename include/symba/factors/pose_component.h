@@ -1,0 +1,95 @@
+// One component of a pose max-mixture: a hypothesis T_co^j with its
+// square-root information L_j (6 x 6, acting on the SE(3) log error
+// [rho; omega], metres and radians) and its weight w_j > 0.
+//
+// PoseComponentsFromHypotheses builds components from detector hypotheses
+// with isotropic noise: L = diag(1/sigma_t x3, 1/sigma_r x3).
+// ValidatePoseComponents rejects what must never reach a Ceres problem:
+// non-finite numbers, a non-positive weight, a singular L, a quaternion that
+// is not unit within 1e-6 (after which it is normalised by the edges).
+#ifndef SYMBA_FACTORS_POSE_COMPONENT_H_
+#define SYMBA_FACTORS_POSE_COMPONENT_H_
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+
+#include "symba/common/status.h"
+#include "symba/detection/pose_hypothesis.h"
+#include "symba/geometry/rigid3.h"
+
+namespace symba {
+
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+struct PoseComponent {
+  Rigid3d T_co;
+  Matrix6d sqrt_info = Matrix6d::Identity();
+  double weight = 1.0;
+};
+
+inline Matrix6d IsotropicPoseSqrtInfo(double sigma_t, double sigma_r) {
+  Matrix6d sqrt_info = Matrix6d::Zero();
+  sqrt_info.diagonal() << Eigen::Vector3d::Constant(1.0 / sigma_t),
+      Eigen::Vector3d::Constant(1.0 / sigma_r);
+  return sqrt_info;
+}
+
+inline std::vector<PoseComponent> PoseComponentsFromHypotheses(
+    const std::vector<PoseHypothesis>& hypotheses,
+    double sigma_t,
+    double sigma_r) {
+  std::vector<PoseComponent> components;
+  components.reserve(hypotheses.size());
+  const Matrix6d sqrt_info = IsotropicPoseSqrtInfo(sigma_t, sigma_r);
+  for (const PoseHypothesis& h : hypotheses) {
+    components.push_back({h.T_co, sqrt_info, h.weight});
+  }
+  return components;
+}
+
+// Checks a square-root information matrix and a weight of one component.
+template <int kRows>
+Status ValidateSqrtInfoAndWeight(
+    const Eigen::Matrix<double, kRows, kRows>& sqrt_info,
+    double weight,
+    const std::string& what) {
+  if (!sqrt_info.allFinite()) {
+    return Status::Error(what + ": square-root information is not finite");
+  }
+  const double det = sqrt_info.determinant();
+  if (!(std::abs(det) > 0.0) || !std::isfinite(std::log(std::abs(det)))) {
+    return Status::Error(what + ": square-root information is singular");
+  }
+  if (!std::isfinite(weight) || !(weight > 0.0)) {
+    return Status::Error(what + ": weight must be positive and finite");
+  }
+  return Status::Ok();
+}
+
+inline Status ValidatePoseComponents(
+    const std::vector<PoseComponent>& components) {
+  if (components.empty()) {
+    return Status::Error("a pose mixture needs at least one hypothesis");
+  }
+  for (size_t j = 0; j < components.size(); ++j) {
+    const PoseComponent& c = components[j];
+    const std::string what = "hypothesis " + std::to_string(j);
+    if (!c.T_co.t.allFinite() || !c.T_co.q.coeffs().allFinite()) {
+      return Status::Error(what + ": pose is not finite");
+    }
+    if (std::abs(c.T_co.q.norm() - 1.0) > 1e-6) {
+      return Status::Error(what + ": quaternion is not unit");
+    }
+    Status status = ValidateSqrtInfoAndWeight<6>(c.sqrt_info, c.weight, what);
+    if (!status.ok()) return status;
+  }
+  return Status::Ok();
+}
+
+}  // namespace symba
+
+#endif  // SYMBA_FACTORS_POSE_COMPONENT_H_

@@ -1,0 +1,161 @@
+// Categorization of one multi-hypothesis detection (paper Sec. IV-B, method
+// notes Sec. 2; the full algorithm with its measurements is in
+// docs/categorization.md).
+//
+// Input: N hypotheses T_co^j = (R_j, t_j) with positive weights w_j. Output:
+// the symmetry type and the unambiguous parameters. Conventions:
+//
+//   axis_o   unit symmetry axis in the object frame. For every inlier j,
+//            R_j axis_o ~= axis_c: the axis is the same in the object frame
+//            of every hypothesis, whichever mode it shows. Its sign is
+//            arbitrary (aligned with the map's axis at association).
+//   axis_c   unit axis in the camera frame; axis_c = R_base axis_o exactly.
+//   T_co_base = (R_base, t_co), the representative pose ("angle 0"):
+//            discrete   the reference hypothesis' cluster, its swing aligned
+//                       to axis_c and its twist set to the cluster's mean;
+//            continuous the reference hypothesis with its swing aligned;
+//            asymmetric the mean rotation of the inliers.
+//   theta    a discrete cluster's signed angle (rad, (-pi, pi]) about axis_o
+//            such that R_j ~= R_base * Rot(axis_o, theta) for its members
+//            (right-multiplied: a rotation of the object about its own axis).
+//            The reference's cluster is clusters[0] with theta = 0 exactly.
+//            With the backend's R_wo_i = Swing(a_w0 -> a_w) R_base_w
+//            Rot(a_o, theta_i), R_base_w = R_wc R_base.
+//   twist    per hypothesis, its signed twist about axis_o relative to
+//            R_base (the theta it would have alone).
+//
+// Steps (docs/categorization.md has the equations and every threshold):
+//   1. Reference r: the highest-weight hypothesis (ties: lowest index).
+//   2. omega_j = log(R_r^T R_j), theta_j = |omega_j|.
+//   3. Axis votes: rows with theta_j > min_axis_angle; the row whose
+//      direction agrees (within axis_vote_angle, up to sign) with the most
+//      weight of other rows wins. Less than min_points of support: no second
+//      mode, the detection is asymmetric.
+//   4. Axis refinement: (axis_o, axis_c) = the singular pair of
+//      B = sum_j w_j R_j nearest the voted axis, which minimises
+//      sum_j w_j |R_j axis_o - axis_c|^2; hypotheses whose axis R_j axis_o
+//      is more than swing_tolerance from axis_c are outliers; refit twice.
+//   5. Signed twists psi_j of R_ref^T R_j about axis_o (R_ref = R_r with
+//      its swing aligned to axis_c).
+//   6. Circular DBSCAN of the psi_j of the axis inliers.
+//   7. Decision: one compact cluster -> asymmetric; >= 2 compact clusters,
+//      separated, with little DBSCAN noise -> discrete; otherwise
+//      continuous. If the reference is not in any cluster it is an outlier:
+//      the highest-weight member of the largest cluster becomes the
+//      reference and steps 2-7 run once more.
+//   8. Inliers (translation-gated around their median) and position t_co =
+//      their weighted mean translation.
+//
+// A class prior (log header `classes`) can refine the result: a prior axis
+// replaces the voted axis, and a discrete order snaps the cluster angles to
+// multiples of 2 pi / order. The type always comes from the hypotheses.
+#ifndef SYMBA_CATEGORIZATION_CATEGORIZE_H_
+#define SYMBA_CATEGORIZATION_CATEGORIZE_H_
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "symba/categorization/symmetry_type.h"
+#include "symba/common/status.h"
+#include "symba/detection/pose_hypothesis.h"
+#include "symba/geometry/angle.h"
+#include "symba/geometry/rigid3.h"
+
+namespace symba {
+
+// Thresholds of the categorization (docs/categorization.md says why each
+// default is what it is). Angles in radians, lengths in metres. The defaults
+// suit hypotheses with rotation noise up to about 6 degrees per axis.
+struct CategorizationOptions {
+  // Relative rotations larger than this vote for the axis (step 3).
+  double min_axis_angle = 30.0 * kPi / 180.0;
+  // Two votes agree when their directions are this close, up to sign.
+  double axis_vote_angle = 20.0 * kPi / 180.0;
+  // A hypothesis is an axis inlier when R_j axis_o is this close to axis_c.
+  double swing_tolerance = 18.0 * kPi / 180.0;
+  // Circular DBSCAN of the twist angles: radius and core size. min_points is
+  // also the smallest mode that counts as a mode (and the smallest axis
+  // support).
+  double cluster_eps = 12.0 * kPi / 180.0;
+  int min_points = 3;
+  // A cluster is compact when its arc is at most this.
+  double max_cluster_extent = 45.0 * kPi / 180.0;
+  // Discrete needs every arc between neighbouring clusters to be at least
+  // this, and at most this fraction of the axis inliers to be DBSCAN noise.
+  double min_cluster_separation = 20.0 * kPi / 180.0;
+  double max_noise_fraction = 0.2;
+  // Discrete also needs at least this fraction of the circle to lie in gaps
+  // wider than empty_gap_angle between consecutive twists.
+  double empty_gap_angle = 20.0 * kPi / 180.0;
+  double min_empty_fraction = 0.7;
+  // Asymmetric: hypotheses within this rotation angle of the mean pose are
+  // the inliers.
+  double asymmetric_inlier_angle = 20.0 * kPi / 180.0;
+  // Inliers whose translation is farther than this from the inliers'
+  // coordinate-wise median are dropped (metres; infinity disables).
+  double translation_gate = 0.2;
+  // With a discrete class prior, a cluster angle snaps to the nearest
+  // multiple of 2 pi / order when it is within this of it.
+  double prior_snap_angle = 15.0 * kPi / 180.0;
+
+  // OK, or which option is out of range and why.
+  Status Validate() const;
+};
+
+// What the log header's `classes` entry says about a class (log-format.md).
+struct ClassPrior {
+  SymmetryType symmetry = SymmetryType::kAsymmetric;
+  int order = 0;  // discrete: symmetry order (>= 2); 0 = unknown
+  // Symmetry axis in the object frame; zero = unknown. Need not be unit.
+  Eigen::Vector3d axis_o = Eigen::Vector3d::Zero();
+};
+
+// One mode of a discrete detection.
+struct AngleCluster {
+  double theta = 0.0;        // rad, (-pi, pi]; see the header comment
+  double spread = 0.0;       // weighted RMS of member twists about theta, rad
+  double weight = 0.0;       // sum of the members' weights
+  std::vector<int> members;  // hypothesis indices, ascending
+};
+
+// Numbers behind the decision, for diagnostics and the benchmark.
+struct CategorizationDiagnostics {
+  int passes = 0;            // 1, or 2 when the first reference was an outlier
+  double axis_support = 0;   // weight of the axis votes (step 3)
+  int num_axis_inliers = 0;  // step 4
+  int num_raw_clusters = 0;  // DBSCAN clusters (step 6)
+  int num_noise = 0;         // DBSCAN noise among the axis inliers
+  double max_cluster_extent = 0;      // rad
+  double min_cluster_separation = 0;  // rad; 0 with fewer than 2 clusters
+  double empty_fraction = 0;          // share of the circle in wide gaps
+  bool prior_axis_used = false;
+  bool prior_order_snapped = false;
+};
+
+struct CategorizedDetection {
+  SymmetryType type = SymmetryType::kAsymmetric;
+  int reference = 0;  // index of the reference hypothesis
+  Rigid3d T_co_base;  // representative pose, see the header comment
+  Eigen::Vector3d t_co = Eigen::Vector3d::Zero();    // = T_co_base.t
+  Eigen::Vector3d axis_o = Eigen::Vector3d::Zero();  // zero if asymmetric
+  Eigen::Vector3d axis_c = Eigen::Vector3d::Zero();  // zero if asymmetric
+  std::vector<AngleCluster> clusters;  // discrete only; [0] is the reference's
+  std::vector<int> inliers;            // surviving hypotheses, ascending
+  std::vector<double> twist;           // per hypothesis (0 if asymmetric), rad
+  CategorizationDiagnostics diagnostics;
+};
+
+// Categorizes one detection. `prior` may be null. On success fills `out`
+// (its vectors are reused). Returns an error, naming the hypothesis and what
+// is wrong, for an empty set, a non-finite or non-unit (|1 - |q|| > 1e-3)
+// quaternion, a non-finite translation, a weight that is not positive and
+// finite, invalid options or an invalid prior; `out` is then reset.
+Status Categorize(const std::vector<PoseHypothesis>& hypotheses,
+                  const CategorizationOptions& options,
+                  const ClassPrior* prior,
+                  CategorizedDetection* out);
+
+}  // namespace symba
+
+#endif  // SYMBA_CATEGORIZATION_CATEGORIZE_H_

@@ -4,8 +4,8 @@
 
 #include <Eigen/Core>
 
-#include "symba/geometry/angle.h"
 #include "symba/geometry/so3.h"
+#include "symba/geometry/sphere_log.h"
 #include "symba/geometry/tangent_basis.h"
 
 namespace symba {
@@ -53,24 +53,8 @@ bool AxisManifold::Minus(const double* y_ptr,
                          const double* x_ptr,
                          double* y_minus_x_ptr) const {
   const Eigen::Vector3d x = ConstAmbient(x_ptr).normalized();
-  const Eigen::Vector3d y = ConstAmbient(y_ptr);
-  const Eigen::Vector2d w = TangentBasis(x).transpose() * y;
-  const double c = x.dot(y);
-  const double s_sq = w.squaredNorm();
   Eigen::Map<Eigen::Vector2d> y_minus_x(y_minus_x_ptr);
-  if (s_sq == 0.0) {
-    // y = +x gives 0; y = -x is a half-turn in an arbitrary (fixed) direction.
-    y_minus_x = c >= 0.0 ? Eigen::Vector2d::Zero() : Eigen::Vector2d(kPi, 0.0);
-    return true;
-  }
-  double factor;  // theta / s, theta = atan2(s, c)
-  if (c > 0.0 && s_sq < kSmallAngleSquared * c * c) {
-    factor = (1.0 - s_sq / (3.0 * c * c)) / c;
-  } else {
-    const double s = std::sqrt(s_sq);
-    factor = std::atan2(s, c) / s;
-  }
-  y_minus_x = factor * w;
+  y_minus_x = SphereLog(x, Eigen::Vector3d(ConstAmbient(y_ptr)));
   return true;
 }
 

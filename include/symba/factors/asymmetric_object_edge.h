@@ -5,11 +5,11 @@
 //   e_j = LogSE3(T_co^j * T_wo^-1 * T_wc)       (6: [rho; omega], m and rad)
 //   residual = [ L_j* e_j* ; sqrt(2 (k_j* - k_min)) ]   (7, see max_mixture.h)
 //
-// Parameter blocks, in order:
+// Parameter blocks, in order (quaternions with EigenQuaternionManifold):
 //   q_wc  4  camera rotation, Eigen order [x, y, z, w]
-//   (EigenQuaternionManifold) t_wc  3  camera position in the world (m) q_wo  4
-//   object rotation, Eigen order [x, y, z, w] t_wo  3  object position in the
-//   world (m)
+//   t_wc  3  camera position in the world (m)
+//   q_wo  4  object rotation, Eigen order [x, y, z, w]
+//   t_wo  3  object position in the world (m)
 // The edge owns copies of its components.
 #ifndef SYMBA_FACTORS_ASYMMETRIC_OBJECT_EDGE_H_
 #define SYMBA_FACTORS_ASYMMETRIC_OBJECT_EDGE_H_

@@ -336,7 +336,12 @@ Pass RunPass(const std::vector<PoseHypothesis>& hypotheses,
     if (work->twist_owner[i] == r) reference_label = dbscan.labels[i];
   }
   if (reference_label == CircularDbscanResult::kNoiseLabel) {
-    pass.type = SymmetryType::kAsymmetric;
+    // Without any cluster, axis inliers too sparse for DBSCAN are spread
+    // around the axis: continuous. Otherwise the reference is an outlier.
+    pass.type = num_clusters == 0 && static_cast<int>(work->twist_in.size()) >=
+                                         options.min_points
+                    ? SymmetryType::kContinuous
+                    : SymmetryType::kAsymmetric;
     if (!last_pass && num_clusters > 0) {
       // The highest-weight member of the largest cluster (ties: the lower
       // cluster index, then the lower hypothesis index).
@@ -368,20 +373,33 @@ Pass RunPass(const std::vector<PoseHypothesis>& hypotheses,
     all_compact =
         all_compact && !c.ring && c.extent <= options.max_cluster_extent;
   }
-  // Arcs between neighbouring clusters (sorted by start).
+  // Arcs between neighbouring clusters: for cluster c, from its end to the
+  // start of the next cluster counter-clockwise. Each must be at least
+  // min_cluster_separation and separation_ratio times the mean extent of the
+  // two clusters it separates.
   double min_separation = 0.0;
+  bool separated = false;
   if (num_clusters >= 2 && all_compact) {
     min_separation = kTwoPi;
+    separated = true;
     for (int c = 0; c < num_clusters; ++c) {
-      // The next cluster counter-clockwise from the end of c.
       const CircularCluster& cluster = dbscan.clusters[c];
       const double end = cluster.start + cluster.extent;
-      double nearest = kTwoPi;
+      double gap = kTwoPi;
+      int next = c;
       for (int d = 0; d < num_clusters; ++d) {
         if (d == c) continue;
-        nearest = std::min(nearest, ForwardArc(end, dbscan.clusters[d].start));
+        const double arc = ForwardArc(end, dbscan.clusters[d].start);
+        if (arc < gap) {
+          gap = arc;
+          next = d;
+        }
       }
-      min_separation = std::min(min_separation, nearest);
+      min_separation = std::min(min_separation, gap);
+      const double mean_extent =
+          0.5 * (cluster.extent + dbscan.clusters[next].extent);
+      separated = separated && gap >= options.min_cluster_separation &&
+                  gap >= options.separation_ratio * mean_extent;
     }
   }
   diagnostics->max_cluster_extent = max_extent;
@@ -403,8 +421,7 @@ Pass RunPass(const std::vector<PoseHypothesis>& hypotheses,
       dbscan.num_noise <= options.max_noise_fraction * num_in;
   if (num_clusters == 1 && all_compact && few_noise) {
     pass.type = SymmetryType::kAsymmetric;
-  } else if (num_clusters >= 2 && all_compact && few_noise &&
-             min_separation >= options.min_cluster_separation &&
+  } else if (num_clusters >= 2 && all_compact && few_noise && separated &&
              empty >= options.min_empty_fraction) {
     pass.type = SymmetryType::kDiscrete;
   } else {
@@ -640,6 +657,11 @@ Status CategorizationOptions::Validate() const {
     return Status::Error("categorization options: max_noise_fraction = " +
                          std::to_string(max_noise_fraction) +
                          " is not in [0, 1]");
+  }
+  if (!(separation_ratio >= 0.0 && std::isfinite(separation_ratio))) {
+    return Status::Error("categorization options: separation_ratio = " +
+                         std::to_string(separation_ratio) +
+                         " is not finite and >= 0");
   }
   if (!(min_empty_fraction >= 0.0 && min_empty_fraction <= 1.0)) {
     return Status::Error("categorization options: min_empty_fraction = " +

@@ -84,6 +84,8 @@ struct CategorizationOptions {
   // Discrete needs every arc between neighbouring clusters to be at least
   // this, and at most this fraction of the axis inliers to be DBSCAN noise.
   double min_cluster_separation = 20.0 * kPi / 180.0;
+  // ... and at least this times the mean extent of the two clusters.
+  double separation_ratio = 1.0;
   double max_noise_fraction = 0.2;
   // Discrete also needs at least this fraction of the circle to lie in gaps
   // wider than empty_gap_angle between consecutive twists.

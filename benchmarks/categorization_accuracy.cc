@@ -1,0 +1,297 @@
+// symba-categorization-bench: accuracy of Categorize() on generated
+// detections (tests/test_support/hypothesis_generator.h), swept over symmetry
+// types, orders, visible modes, rotation noise and outlier fractions. Prints
+// one row per cell and the confusion matrix; docs/categorization.md records
+// the output. Deterministic for a given seed.
+//
+//   symba-categorization-bench [--detections=1000] [--seed=1] [--n=30]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "symba/categorization/categorize.h"
+#include "test_support/hypothesis_generator.h"
+
+namespace symba {
+namespace {
+
+using testing::GeneratedDetection;
+using testing::HypothesisSetSpec;
+using testing::kDegree;
+
+struct Shape {
+  std::string name;
+  SymmetryType type;
+  int order;
+  std::vector<int> visible;
+};
+
+struct CellStats {
+  int count = 0;
+  int predicted[3] = {0, 0, 0};
+  std::vector<double> axis_c_error;  // deg, correctly typed symmetric
+  std::vector<double> axis_o_error;  // deg
+  std::vector<double> angle_error;   // deg, non-reference clusters
+  int modes_checked = 0;
+  int all_modes_found = 0;  // every visible mode is a cluster, no extras
+  int outliers = 0;
+  int outliers_kept = 0;
+  int inliers = 0;
+  int inliers_kept = 0;
+};
+
+double Percentile(std::vector<double> v, double p) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  const double pos = p * (v.size() - 1);
+  const size_t lo = static_cast<size_t>(std::floor(pos));
+  const size_t hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (pos - lo) * (v[hi] - v[lo]);
+}
+
+double AxisErrorDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double c = std::min(1.0, std::abs(a.normalized().dot(b.normalized())));
+  return std::acos(c) / kDegree;
+}
+
+void Score(const GeneratedDetection& d,
+           const CategorizedDetection& c,
+           int order,
+           CellStats* stats) {
+  ++stats->count;
+  ++stats->predicted[static_cast<int>(c.type)];
+  const int n = static_cast<int>(d.hypotheses.size());
+  std::vector<char> kept(n, 0);
+  for (int j : c.inliers) kept[j] = 1;
+  for (int j = 0; j < n; ++j) {
+    if (d.mode[j] < 0) {
+      ++stats->outliers;
+      stats->outliers_kept += kept[j];
+    } else {
+      ++stats->inliers;
+      stats->inliers_kept += kept[j];
+    }
+  }
+  if (c.type != d.expected_type) return;
+  if (c.type == SymmetryType::kAsymmetric) return;
+  stats->axis_c_error.push_back(AxisErrorDeg(c.axis_c, d.axis_c));
+  stats->axis_o_error.push_back(AxisErrorDeg(c.axis_o, d.axis_o));
+  if (c.type != SymmetryType::kDiscrete) return;
+  // Each cluster's true mode: the majority of its members' modes.
+  const double sign = c.axis_o.dot(d.axis_o) < 0.0 ? -1.0 : 1.0;
+  std::vector<int> cluster_mode;
+  for (const AngleCluster& cluster : c.clusters) {
+    std::map<int, int> votes;
+    for (int j : cluster.members) {
+      if (d.mode[j] >= 0) ++votes[d.mode[j]];
+    }
+    int best = -1;
+    int best_votes = 0;
+    for (const auto& [mode, v] : votes) {
+      if (v > best_votes) {
+        best = mode;
+        best_votes = v;
+      }
+    }
+    cluster_mode.push_back(best);
+  }
+  for (size_t i = 1; i < c.clusters.size(); ++i) {
+    if (cluster_mode[i] < 0 || cluster_mode[0] < 0) continue;
+    const double truth = kTwoPi * (cluster_mode[i] - cluster_mode[0]) / order;
+    stats->angle_error.push_back(
+        std::abs(WrapToPi(sign * c.clusters[i].theta - truth)) / kDegree);
+  }
+  std::vector<int> found = cluster_mode;
+  std::sort(found.begin(), found.end());
+  std::vector<int> visible = d.visible_modes;
+  std::sort(visible.begin(), visible.end());
+  ++stats->modes_checked;
+  stats->all_modes_found += found == visible;
+}
+
+int Run(int detections, unsigned seed, int num_hypotheses) {
+  const std::vector<Shape> shapes = {
+      {"asymmetric", SymmetryType::kAsymmetric, 1, {}},
+      {"continuous", SymmetryType::kContinuous, 1, {}},
+      {"C2 all", SymmetryType::kDiscrete, 2, {}},
+      {"C3 all", SymmetryType::kDiscrete, 3, {}},
+      {"C4 all", SymmetryType::kDiscrete, 4, {}},
+      {"C6 all", SymmetryType::kDiscrete, 6, {}},
+      {"C3 {0,1}", SymmetryType::kDiscrete, 3, {0, 1}},
+      {"C4 {0,1}", SymmetryType::kDiscrete, 4, {0, 1}},
+      {"C4 {0,2}", SymmetryType::kDiscrete, 4, {0, 2}},
+      {"C6 {0,1}", SymmetryType::kDiscrete, 6, {0, 1}},
+      {"C6 {0,1,2}", SymmetryType::kDiscrete, 6, {0, 1, 2}},
+      {"C6 {0,2,4}", SymmetryType::kDiscrete, 6, {0, 2, 4}},
+      {"C2 {0}", SymmetryType::kDiscrete, 2, {0}},
+      {"C4 {0}", SymmetryType::kDiscrete, 4, {0}},
+      {"C6 {0}", SymmetryType::kDiscrete, 6, {0}},
+  };
+  const double noises[] = {2.0, 5.0};
+  const double outlier_fractions[] = {0.0, 0.1, 0.2};
+  CategorizationOptions options;
+  int confusion[3][3] = {{0}};
+  double seconds = 0.0;
+  long total = 0;
+
+  std::printf(
+      "symba-categorization-bench: %d detections per cell, N = %d, seed %u\n"
+      "axis errors in the camera frame (axis_c) and object frame (axis_o), "
+      "cluster angle errors, in degrees (median / p95)\n\n",
+      detections,
+      num_hypotheses,
+      seed);
+  std::printf(
+      "%-11s %5s %4s | %6s %6s %6s | %7s | %-11s | %-11s | %-11s | %6s | %6s "
+      "%6s\n",
+      "cell",
+      "noise",
+      "out%",
+      "asym%",
+      "disc%",
+      "cont%",
+      "correct",
+      "axis_c",
+      "axis_o",
+      "angle",
+      "modes%",
+      "outin%",
+      "inin%");
+  unsigned cell_seed = seed;
+  for (const Shape& shape : shapes) {
+    for (double noise : noises) {
+      for (double outliers : outlier_fractions) {
+        HypothesisSetSpec spec;
+        spec.type = shape.type;
+        spec.order = shape.order;
+        spec.visible_modes = shape.visible;
+        spec.rotation_sigma = noise * kDegree;
+        spec.outlier_fraction = outliers;
+        spec.num_hypotheses = num_hypotheses;
+        testing::TestRandom random(cell_seed++);
+        CellStats stats;
+        CategorizedDetection result;
+        int expected = 0;
+        for (int i = 0; i < detections; ++i) {
+          const GeneratedDetection d = GenerateDetection(spec, &random);
+          const auto start = std::chrono::steady_clock::now();
+          const Status status =
+              Categorize(d.hypotheses, options, nullptr, &result);
+          seconds += std::chrono::duration<double>(
+                         std::chrono::steady_clock::now() - start)
+                         .count();
+          ++total;
+          if (!status.ok()) {
+            std::fprintf(stderr, "error: %s\n", status.message().c_str());
+            return 1;
+          }
+          Score(d, result, shape.order, &stats);
+          expected = static_cast<int>(d.expected_type);
+          ++confusion[expected][static_cast<int>(result.type)];
+        }
+        auto pct = [&](int k) { return 100.0 * k / stats.count; };
+        auto pair = [](const std::vector<double>& v) {
+          char buf[32];
+          if (v.empty()) {
+            std::snprintf(buf, sizeof(buf), "-");
+          } else {
+            std::snprintf(buf,
+                          sizeof(buf),
+                          "%.2f / %.2f",
+                          Percentile(v, 0.5),
+                          Percentile(v, 0.95));
+          }
+          return std::string(buf);
+        };
+        char modes[16] = "-";
+        if (stats.modes_checked > 0) {
+          std::snprintf(modes,
+                        sizeof(modes),
+                        "%.1f",
+                        100.0 * stats.all_modes_found / stats.modes_checked);
+        }
+        char outin[16] = "-";
+        if (stats.outliers > 0) {
+          std::snprintf(outin,
+                        sizeof(outin),
+                        "%.1f",
+                        100.0 * stats.outliers_kept / stats.outliers);
+        }
+        std::printf(
+            "%-11s %5.0f %4.0f | %6.1f %6.1f %6.1f | %6.1f%% | %-11s | %-11s "
+            "| %-11s | %6s | %6s %6.1f\n",
+            shape.name.c_str(),
+            noise,
+            100 * outliers,
+            pct(stats.predicted[0]),
+            pct(stats.predicted[1]),
+            pct(stats.predicted[2]),
+            pct(stats.predicted[expected]),
+            pair(stats.axis_c_error).c_str(),
+            pair(stats.axis_o_error).c_str(),
+            pair(stats.angle_error).c_str(),
+            modes,
+            outin,
+            100.0 * stats.inliers_kept / stats.inliers);
+      }
+    }
+  }
+  std::printf(
+      "\nconfusion matrix over all cells (rows: expected, columns: "
+      "categorized)\n%-12s %10s %10s %10s\n",
+      "",
+      "asymmetric",
+      "discrete",
+      "continuous");
+  const char* names[] = {"asymmetric", "discrete", "continuous"};
+  for (int e = 0; e < 3; ++e) {
+    std::printf("%-12s %10d %10d %10d\n",
+                names[e],
+                confusion[e][0],
+                confusion[e][1],
+                confusion[e][2]);
+  }
+  std::printf("\nmean time per categorization: %.2f us (%ld detections)\n",
+              1e6 * seconds / total,
+              total);
+  std::printf(
+      "columns: correct = expected type; modes%% = discrete detections whose "
+      "clusters are exactly the visible modes; outin%% = outlier hypotheses "
+      "kept as inliers; inin%% = true inliers kept\n");
+  return 0;
+}
+
+}  // namespace
+}  // namespace symba
+
+int main(int argc, char** argv) {
+  int detections = 1000;
+  unsigned seed = 1;
+  int n = 30;
+  for (int i = 1; i < argc; ++i) {
+    const char* arg = argv[i];
+    if (std::strncmp(arg, "--detections=", 13) == 0) {
+      detections = std::atoi(arg + 13);
+    } else if (std::strncmp(arg, "--seed=", 7) == 0) {
+      seed = static_cast<unsigned>(std::strtoul(arg + 7, nullptr, 10));
+    } else if (std::strncmp(arg, "--n=", 4) == 0) {
+      n = std::atoi(arg + 4);
+    } else {
+      std::fprintf(stderr,
+                   "usage: %s [--detections=1000] [--seed=1] [--n=30]\n",
+                   argv[0]);
+      return 2;
+    }
+  }
+  if (detections < 1 || n < 1) {
+    std::fprintf(stderr, "--detections and --n must be positive\n");
+    return 2;
+  }
+  return symba::Run(detections, seed, n);
+}

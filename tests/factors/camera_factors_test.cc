@@ -6,17 +6,6 @@
 // estimate/measurement rotations near the identity and near pi), and small
 // solves that must recover the truth from a perturbed start.
 
-// GradientChecker::ProbeResults holds Eigen matrices that the (uninstrumented)
-// Ceres library allocates with plain malloc and this file frees. Under
-// AddressSanitizer Eigen switches to its "handmade" aligned allocator (it
-// does not trust ASan's malloc alignment), whose free reads a header that
-// plain malloc never wrote: a heap-buffer-overflow in ~ProbeResults. Make
-// this file allocate like the library does; Eigen still asserts 16-byte
-// alignment of every allocation in Debug builds.
-#ifndef EIGEN_MALLOC_ALREADY_ALIGNED
-#define EIGEN_MALLOC_ALREADY_ALIGNED 1
-#endif
-
 #include "symba/factors/pose_prior_factor.h"
 #include "symba/factors/relative_pose_factor.h"
 #include "symba/factors/reprojection_factor.h"

@@ -4,12 +4,17 @@
 //   WrapToPi(x) = x - 2 pi k, the representative in (-pi, pi]   (radians)
 //   CircularDistance(a, b) = |WrapToPi(a - b)|  in [0, pi]
 //
-// Templated on the scalar; with ceres::Jet the wrap is a shift by a constant,
-// so derivatives pass through unchanged.
+// The reduction is std::remainder by 2 pi (the double kTwoPi), which is exact
+// for every finite input, so the result is in (-pi, pi] however large x is,
+// and x in (-pi, pi] comes back bit for bit. For ceres::Jet the value wraps
+// exactly as the double does and the derivatives pass through unchanged (the
+// wrap is a shift by a constant).
 #ifndef SYMBA_GEOMETRY_ANGLE_H_
 #define SYMBA_GEOMETRY_ANGLE_H_
 
 #include <cmath>
+
+#include <ceres/jet.h>
 
 namespace symba {
 
@@ -20,12 +25,20 @@ inline constexpr double kTwoPi = 2.0 * kPi;
 // returned unchanged (the caller validates input; this never loops).
 template <typename T>
 T WrapToPi(const T& angle) {
-  using std::floor;
-  const T k = floor((angle + T(kPi)) / T(kTwoPi));
-  T wrapped = angle - T(kTwoPi) * k;
-  // floor puts exactly -pi at -pi; the convention here is (-pi, pi].
-  if (wrapped <= T(-kPi)) wrapped += T(kTwoPi);
-  if (wrapped > T(kPi)) wrapped -= T(kTwoPi);
+  using std::isfinite;
+  using std::remainder;
+  if (!isfinite(angle)) return angle;
+  // angle - n 2pi for the integer n nearest angle / 2pi, computed exactly;
+  // it is in [-pi, pi], and -pi (a tie) belongs at +pi.
+  const T wrapped = remainder(angle, T(kTwoPi));
+  return wrapped <= T(-kPi) ? T(kPi) : wrapped;
+}
+
+// ceres::Jet: wraps the value like the scalar, keeps the derivatives.
+template <typename T, int N>
+ceres::Jet<T, N> WrapToPi(const ceres::Jet<T, N>& angle) {
+  ceres::Jet<T, N> wrapped = angle;
+  wrapped.a = WrapToPi(angle.a);
   return wrapped;
 }
 

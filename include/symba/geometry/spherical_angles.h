@@ -5,8 +5,10 @@
 //   psi in (-pi, pi] azimuth from +x toward +y (rad)
 //
 // f^-1 is singular at the poles (a = +-z: psi is undefined and returned as
-// 0). symba optimises axes on the singularity-free AxisManifold instead; these
-// angles serve reporting and a paper-faithful mode.
+// 0). On the half-plane x < 0, y = -0 atan2 gives -pi; that is returned as
+// +pi, so psi stays in (-pi, pi]. symba optimises axes on the
+// singularity-free AxisManifold instead; these angles serve reporting and a
+// paper-faithful mode.
 #ifndef SYMBA_GEOMETRY_SPHERICAL_ANGLES_H_
 #define SYMBA_GEOMETRY_SPHERICAL_ANGLES_H_
 
@@ -14,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include "symba/geometry/angle.h"
 #include "symba/geometry/so3.h"
 
 namespace symba {
@@ -39,12 +42,14 @@ SphericalAngles<T> SphericalFromUnitVector(const Vector3<T>& a) {
   const T rho_sq = a.x() * a.x() + a.y() * a.y();
   SphericalAngles<T> angles;
   if (rho_sq <= T(0)) {
-    angles.phi = a.z() >= T(0) ? T(0) : T(3.14159265358979323846);
+    angles.phi = a.z() >= T(0) ? T(0) : T(kPi);
     angles.psi = T(0);
     return angles;
   }
   angles.phi = atan2(sqrt(rho_sq), a.z());
-  angles.psi = atan2(a.y(), a.x());
+  // atan2 is in [-pi, pi]; WrapToPi maps its -pi (y = -0, x < 0) to +pi and
+  // leaves everything else, derivatives included, unchanged.
+  angles.psi = WrapToPi(atan2(a.y(), a.x()));
   return angles;
 }
 

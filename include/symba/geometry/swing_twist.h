@@ -13,8 +13,12 @@
 //
 //   MinimalRotation(u, v) = the rotation of least angle taking unit u to unit
 //   v: axis u x v / |u x v|, angle acos(u.v); as a quaternion
-//   [1 + u.v, u x v] / |.|. For v = -u it is a half-turn about an axis
-//   perpendicular to u (any one: the choice is deterministic, not unique).
+//   [1 + u.v, u x v] / |.|, evaluated as [|u + v|^2 / 2, u x (u + v)] / |.|
+//   (equal for unit u, v; free of cancellation as v -> -u, where u + v is
+//   computed exactly, so q * u = v to rounding even 1e-13 rad from
+//   antiparallel). Only for u + v = 0 (|u + v|^2 < 2e-100) is it a half-turn
+//   about an axis perpendicular to u (any one: the choice is deterministic,
+//   not unique).
 #ifndef SYMBA_GEOMETRY_SWING_TWIST_H_
 #define SYMBA_GEOMETRY_SWING_TWIST_H_
 
@@ -87,12 +91,15 @@ Vector3<T> AnyPerpendicular(const Vector3<T>& u) {
 template <typename T>
 Eigen::Quaternion<T> MinimalRotation(const Vector3<T>& from,
                                      const Vector3<T>& to) {
-  const T real = T(1) + from.dot(to);
-  if (real < T(1e-12)) {
+  // 1 + u.v, computed as such, loses its digits to cancellation near v = -u;
+  // |u + v|^2 / 2 and u x (u + v) do not (u + v is exact there).
+  const Vector3<T> sum = from + to;
+  const T real = T(0.5) * sum.squaredNorm();
+  if (real < T(1e-100)) {
     const Vector3<T> axis = AnyPerpendicular(from);
     return Eigen::Quaternion<T>(T(0), axis.x(), axis.y(), axis.z());
   }
-  const Vector3<T> imag = from.cross(to);
+  const Vector3<T> imag = from.cross(sum);  // = from x to
   Eigen::Quaternion<T> q(real, imag.x(), imag.y(), imag.z());
   q.normalize();
   return q;

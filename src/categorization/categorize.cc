@@ -191,6 +191,124 @@ bool FitAxis(const Work& work,
   return true;
 }
 
+// Step 6b: neighbouring clusters closer than min_cluster_separation whose
+// union is still within max_cluster_extent are one mode split by DBSCAN
+// (a gap above eps inside a noisy mode): merge them, closest pair first.
+// Labels are renumbered in order of the merged clusters' first label; the
+// summaries keep start, extent and size (mean is not maintained).
+void MergeCloseClusters(const CategorizationOptions& options,
+                        CircularDbscanResult* dbscan) {
+  std::vector<CircularCluster>& clusters = dbscan->clusters;
+  const int num_raw = static_cast<int>(clusters.size());
+  if (num_raw < 2 || clusters[0].ring) return;
+  std::vector<int> merged_into(num_raw);
+  for (int c = 0; c < num_raw; ++c) merged_into[c] = c;
+  std::vector<char> alive(num_raw, 1);
+  while (true) {
+    int best_from = -1;
+    int best_to = -1;
+    double best_gap = options.min_cluster_separation;
+    for (int c = 0; c < num_raw; ++c) {
+      if (!alive[c]) continue;
+      const double end = clusters[c].start + clusters[c].extent;
+      // The next live cluster counter-clockwise.
+      int next = -1;
+      double gap = kTwoPi;
+      for (int d = 0; d < num_raw; ++d) {
+        if (d == c || !alive[d]) continue;
+        const double arc = ForwardArc(end, clusters[d].start);
+        if (arc < gap) {
+          gap = arc;
+          next = d;
+        }
+      }
+      if (next < 0 || gap >= best_gap) continue;
+      const double union_extent = ForwardArc(
+          clusters[c].start, clusters[next].start + clusters[next].extent);
+      if (union_extent <= options.max_cluster_extent) {
+        best_gap = gap;
+        best_from = c;
+        best_to = next;
+      }
+    }
+    if (best_from < 0) break;
+    CircularCluster& a = clusters[best_from];
+    const CircularCluster& b = clusters[best_to];
+    a.extent = ForwardArc(a.start, b.start + b.extent);
+    a.size += b.size;
+    alive[best_to] = 0;
+    for (int c = 0; c < num_raw; ++c) {
+      if (merged_into[c] == best_to) merged_into[c] = best_from;
+    }
+  }
+  // Renumber the survivors 0..M-1 in their original order.
+  std::vector<int> new_label(num_raw, -1);
+  int num_alive = 0;
+  for (int c = 0; c < num_raw; ++c) {
+    if (alive[c]) {
+      new_label[c] = num_alive;
+      clusters[num_alive++] = clusters[c];
+    }
+  }
+  if (num_alive == num_raw) return;
+  clusters.resize(num_alive);
+  for (int& label : dbscan->labels) {
+    if (label != CircularDbscanResult::kNoiseLabel) {
+      label = new_label[merged_into[label]];
+    }
+  }
+}
+
+// Step 7b (discrete only, after the decision): a mode with too few or too
+// spread members to hold a core point is DBSCAN noise. DBSCAN of the noise
+// points with rescue_min_points finds such groups; each that is compact and
+// at least min_cluster_separation from every cluster becomes a cluster.
+void RescueSmallModes(const CategorizationOptions& options, Work* work) {
+  CircularDbscanResult& dbscan = work->dbscan;
+  std::vector<double>& noise_angles = work->scratch;
+  std::vector<int> noise_index;  // position in twist_in
+  noise_angles.clear();
+  for (int i = 0; i < static_cast<int>(dbscan.labels.size()); ++i) {
+    if (dbscan.labels[i] == CircularDbscanResult::kNoiseLabel) {
+      noise_angles.push_back(work->twist_in[i]);
+      noise_index.push_back(i);
+    }
+  }
+  CircularDbscanOptions rescue_options;
+  rescue_options.eps = options.cluster_eps;
+  rescue_options.min_points = options.rescue_min_points;
+  CircularDbscanResult rescue;
+  if (!CircularDbscan(noise_angles, rescue_options, &rescue).ok()) return;
+  const int num_existing = static_cast<int>(dbscan.clusters.size());
+  for (int r = 0; r < static_cast<int>(rescue.clusters.size()); ++r) {
+    const CircularCluster& candidate = rescue.clusters[r];
+    if (candidate.ring || candidate.extent > options.max_cluster_extent) {
+      continue;
+    }
+    bool apart = true;
+    for (int c = 0; c < num_existing && apart; ++c) {
+      const CircularCluster& cluster = dbscan.clusters[c];
+      const double after =
+          ForwardArc(cluster.start + cluster.extent, candidate.start);
+      const double before =
+          ForwardArc(candidate.start + candidate.extent, cluster.start);
+      apart = after >= options.min_cluster_separation &&
+              before >= options.min_cluster_separation &&
+              after + before + cluster.extent + candidate.extent <
+                  kTwoPi + 1e-9;  // the arcs do not overlap
+    }
+    if (!apart) continue;
+    const int label = static_cast<int>(dbscan.clusters.size());
+    dbscan.clusters.push_back(candidate);
+    for (int k = 0; k < static_cast<int>(rescue.labels.size()); ++k) {
+      if (rescue.labels[k] == r) {
+        dbscan.labels[noise_index[k]] = label;
+        --dbscan.num_noise;
+      }
+    }
+  }
+}
+
 // Steps 2-7 with reference r.
 Pass RunPass(const std::vector<PoseHypothesis>& hypotheses,
              const CategorizationOptions& options,
@@ -326,8 +444,9 @@ Pass RunPass(const std::vector<PoseHypothesis>& hypotheses,
     pass.type = SymmetryType::kAsymmetric;  // unreachable: inputs validated
     return pass;
   }
+  diagnostics->num_raw_clusters = static_cast<int>(dbscan.clusters.size());
+  if (options.merge_close_clusters) MergeCloseClusters(options, &dbscan);
   const int num_clusters = static_cast<int>(dbscan.clusters.size());
-  diagnostics->num_raw_clusters = num_clusters;
   diagnostics->num_noise = dbscan.num_noise;
 
   // Step 7: the reference must belong to a cluster.
@@ -424,6 +543,10 @@ Pass RunPass(const std::vector<PoseHypothesis>& hypotheses,
   } else if (num_clusters >= 2 && all_compact && few_noise && separated &&
              empty >= options.min_empty_fraction) {
     pass.type = SymmetryType::kDiscrete;
+    if (options.rescue_min_points > 0 && dbscan.num_noise > 0) {
+      RescueSmallModes(options, work);
+      if (options.merge_close_clusters) MergeCloseClusters(options, &dbscan);
+    }
   } else {
     pass.type = SymmetryType::kContinuous;
   }
@@ -652,6 +775,10 @@ Status CategorizationOptions::Validate() const {
   if (min_points < 1) {
     return Status::Error("categorization options: min_points = " +
                          std::to_string(min_points) + " is below 1");
+  }
+  if (rescue_min_points < 0) {
+    return Status::Error("categorization options: rescue_min_points = " +
+                         std::to_string(rescue_min_points) + " is negative");
   }
   if (!(max_noise_fraction >= 0.0 && max_noise_fraction <= 1.0)) {
     return Status::Error("categorization options: max_noise_fraction = " +

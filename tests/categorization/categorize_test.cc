@@ -326,6 +326,83 @@ TEST(CategorizeTest, SignedAnglesSeparatePlusAndMinusNinety) {
   }
 }
 
+// Hypotheses R_co * Rot(axis, angle_k) for the given angles (degrees).
+std::vector<PoseHypothesis> AtAngles(const Eigen::Quaterniond& q_co,
+                                     const Eigen::Vector3d& axis,
+                                     const std::vector<double>& degrees) {
+  std::vector<PoseHypothesis> hypotheses;
+  for (double d : degrees)
+    hypotheses.push_back(Hyp(q_co * Rot(axis, d * kDegree)));
+  return hypotheses;
+}
+
+// Twists too sparse for any DBSCAN core point, around one axis: continuous.
+TEST(CategorizeTest, SparseTwistsWithoutClustersAreContinuous) {
+  const Eigen::Vector3d axis(0, 1, 0);
+  const auto hypotheses =
+      AtAngles(Rot({1, 0, 0}, 0.3),
+               axis,
+               {0, 35, 62, 101, 140, 171, 205, 238, 281, 317});
+  CategorizedDetection out;
+  ASSERT_TRUE(
+      Categorize(hypotheses, CategorizationOptions(), nullptr, &out).ok());
+  EXPECT_EQ(out.type, SymmetryType::kContinuous);
+  EXPECT_EQ(out.diagnostics.num_raw_clusters, 0);
+  EXPECT_EQ(out.inliers.size(), 10u);
+  EXPECT_LT(AxisErrorDeg(out.axis_o, axis), 1e-6);
+  ExpectWellFormed(hypotheses, out);
+}
+
+// A mode with a gap above cluster_eps inside it is split by DBSCAN and
+// merged back; the mode's angle is the mean of all its members.
+TEST(CategorizeTest, SplitModeIsMergedBack) {
+  const Eigen::Vector3d axis = Eigen::Vector3d(1, -1, 2).normalized();
+  const auto hypotheses = AtAngles(
+      Rot({0, 0, 1}, 2.0), axis, {0, 0, 0, 180, 180, 180, 194, 194, 194});
+  CategorizedDetection out;
+  ASSERT_TRUE(
+      Categorize(hypotheses, CategorizationOptions(), nullptr, &out).ok());
+  ASSERT_EQ(out.type, SymmetryType::kDiscrete);
+  EXPECT_EQ(out.diagnostics.num_raw_clusters, 3);
+  ASSERT_EQ(out.clusters.size(), 2u);
+  EXPECT_EQ(out.clusters[1].members, (std::vector<int>{3, 4, 5, 6, 7, 8}));
+  const double sign = out.axis_o.dot(axis) > 0 ? 1.0 : -1.0;
+  EXPECT_NEAR(
+      WrapToPi(sign * out.clusters[1].theta - 187 * kDegree), 0.0, 1e-9);
+  EXPECT_NEAR(out.clusters[1].spread, 7 * kDegree, 1e-9);
+  ExpectWellFormed(hypotheses, out);
+
+  CategorizationOptions no_merge;
+  no_merge.merge_close_clusters = false;
+  ASSERT_TRUE(Categorize(hypotheses, no_merge, nullptr, &out).ok());
+  EXPECT_EQ(out.type, SymmetryType::kContinuous);  // clusters 14 deg apart
+}
+
+// A discrete detection's mode with fewer than min_points members is found
+// by the rescue pass.
+TEST(CategorizeTest, SmallModeOfDiscreteDetectionIsRescued) {
+  const Eigen::Vector3d axis(0, 0, 1);
+  std::vector<double> angles(8, 0.0);
+  angles.insert(angles.end(), 8, 120.0);
+  angles.insert(angles.end(), {-120.0, -118.0});
+  const auto hypotheses = AtAngles(Rot({1, 1, 1}, 1.0), axis, angles);
+  CategorizedDetection out;
+  ASSERT_TRUE(
+      Categorize(hypotheses, CategorizationOptions(), nullptr, &out).ok());
+  ASSERT_EQ(out.type, SymmetryType::kDiscrete);
+  ASSERT_EQ(out.clusters.size(), 3u);
+  EXPECT_EQ(out.clusters[2].members, (std::vector<int>{16, 17}));
+  EXPECT_EQ(out.inliers.size(), 18u);
+  ExpectWellFormed(hypotheses, out);
+
+  CategorizationOptions no_rescue;
+  no_rescue.rescue_min_points = 0;
+  ASSERT_TRUE(Categorize(hypotheses, no_rescue, nullptr, &out).ok());
+  ASSERT_EQ(out.type, SymmetryType::kDiscrete);
+  EXPECT_EQ(out.clusters.size(), 2u);
+  EXPECT_EQ(out.inliers.size(), 16u);
+}
+
 // ---------------------------------------------------------------------------
 // Decisions and tolerances on generated detections (fixed seeds).
 

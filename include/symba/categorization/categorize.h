@@ -79,6 +79,14 @@ struct CategorizationOptions {
   // support).
   double cluster_eps = 12.0 * kPi / 180.0;
   int min_points = 3;
+  // Merge neighbouring DBSCAN clusters closer than min_cluster_separation
+  // whose union stays within max_cluster_extent (one noisy mode that DBSCAN
+  // split).
+  bool merge_close_clusters = true;
+  // For a discrete detection, groups of at least this many DBSCAN noise
+  // points (within cluster_eps, compact and min_cluster_separation from
+  // every cluster) become clusters too: small modes; 0 disables.
+  int rescue_min_points = 2;
   // A cluster is compact when its arc is at most this.
   double max_cluster_extent = 45.0 * kPi / 180.0;
   // Discrete needs every arc between neighbouring clusters to be at least

@@ -71,20 +71,23 @@ Status ValidateHypotheses(const std::vector<PoseHypothesis>& hypotheses) {
   }
   for (int j = 0; j < static_cast<int>(hypotheses.size()); ++j) {
     const PoseHypothesis& h = hypotheses[j];
-    const std::string where = "categorize: hypothesis " + std::to_string(j);
+    // Built only on failure: no allocation on the normal path.
+    const auto where = [j] {
+      return "categorize: hypothesis " + std::to_string(j);
+    };
     if (!h.T_co.q.coeffs().allFinite()) {
-      return Status::Error(where + ": rotation is not finite");
+      return Status::Error(where() + ": rotation is not finite");
     }
     if (!h.T_co.t.allFinite()) {
-      return Status::Error(where + ": translation is not finite");
+      return Status::Error(where() + ": translation is not finite");
     }
     const double norm = h.T_co.q.norm();
     if (std::abs(norm - 1.0) > kUnitQuaternionTolerance) {
-      return Status::Error(where + ": quaternion norm " + std::to_string(norm) +
-                           " is not 1");
+      return Status::Error(where() + ": quaternion norm " +
+                           std::to_string(norm) + " is not 1");
     }
     if (!(std::isfinite(h.weight) && h.weight > 0.0)) {
-      return Status::Error(where + ": weight " + std::to_string(h.weight) +
+      return Status::Error(where() + ": weight " + std::to_string(h.weight) +
                            " is not positive and finite");
     }
   }

@@ -25,26 +25,36 @@
 //            R_base (the theta it would have alone).
 //
 // Steps (docs/categorization.md has the equations and every threshold):
-//   1. Reference r: the highest-weight hypothesis (ties: lowest index).
+//   0. Translation gate: hypotheses farther than translation_gate from the
+//      coordinate-wise median translation are outliers.
+//   1. Reference r: the highest-weight hypothesis (ties: lowest index) among
+//      those with at least min_points hypotheses within min_axis_angle of
+//      rotation (itself included); if none has, the highest-weight one.
 //   2. omega_j = log(R_r^T R_j), theta_j = |omega_j|.
 //   3. Axis votes: rows with theta_j > min_axis_angle; the row whose
 //      direction agrees (within axis_vote_angle, up to sign) with the most
-//      weight of other rows wins. Less than min_points of support: no second
-//      mode, the detection is asymmetric.
+//      weight of rows wins. Fewer than min_points votes: no second mode, the
+//      detection is asymmetric.
 //   4. Axis refinement: (axis_o, axis_c) = the singular pair of
 //      B = sum_j w_j R_j nearest the voted axis, which minimises
 //      sum_j w_j |R_j axis_o - axis_c|^2; hypotheses whose axis R_j axis_o
-//      is more than swing_tolerance from axis_c are outliers; refit twice.
+//      is more than swing_tolerance from axis_c are outliers; three rounds.
 //   5. Signed twists psi_j of R_ref^T R_j about axis_o (R_ref = R_r with
 //      its swing aligned to axis_c).
-//   6. Circular DBSCAN of the psi_j of the axis inliers.
-//   7. Decision: one compact cluster -> asymmetric; >= 2 compact clusters,
-//      separated, with little DBSCAN noise -> discrete; otherwise
-//      continuous. If the reference is not in any cluster it is an outlier:
-//      the highest-weight member of the largest cluster becomes the
-//      reference and steps 2-7 run once more.
-//   8. Inliers (translation-gated around their median) and position t_co =
-//      their weighted mean translation.
+//   6. Circular DBSCAN (cluster_eps, min_points) of the axis inliers' psi_j;
+//      neighbouring clusters closer than min_cluster_separation whose union
+//      is compact are merged (one mode split by noise).
+//   7. Decision. The reference must be in a cluster; if it is not, the
+//      highest-weight member of the largest cluster becomes the reference
+//      and steps 2-7 run once more. Then: one compact cluster holding all
+//      but max_noise_fraction of the axis inliers -> asymmetric; >= 2
+//      compact clusters, pairwise separated, little noise and at least
+//      min_empty_fraction of the circle in wide empty gaps -> discrete
+//      (then small modes are rescued from the DBSCAN noise); otherwise
+//      continuous.
+//   8. Outputs: inliers (cluster members / axis inliers / hypotheses near
+//      the mean pose), t_co = their weighted mean translation, base pose,
+//      cluster angles as weighted arc means of the members' twists.
 //
 // A class prior (log header `classes`) can refine the result: a prior axis
 // replaces the voted axis, and a discrete order snaps the cluster angles to

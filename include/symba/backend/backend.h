@@ -1,0 +1,93 @@
+// Backend: the object-SLAM estimation backend a SLAM system embeds
+// (docs/backend.md). Keyed by ids, never by pointers.
+//
+//   AddKeyframe      initialise the keyframe's pose from the previous
+//                    optimised pose and the front end's relative motion (or
+//                    odometry), add its camera factors and point
+//                    observations, categorise each detection, warp it into
+//                    the world, associate it with a map object or create one,
+//                    and add its object edges (method notes Sec. 2-5).
+//   OptimizeWindow   the last K keyframes and everything they observe are
+//                    free; older keyframes that observe them are constant;
+//                    the first keyframe fixes the gauge.
+//   OptimizeBatch    everything free but the first keyframe.
+//   Keyframes / Objects / Assignments   read back the estimates.
+//
+// The Ceres problem persists: a window solve adds the factors that became
+// active and removes those that left the window; nothing is rebuilt per
+// keyframe. The three methods (symba, mh, sh) share all of this code and
+// differ only in how a detection is turned into edges and associated.
+// Not thread-safe: call from one thread (Ceres may use several inside).
+#ifndef SYMBA_BACKEND_BACKEND_H_
+#define SYMBA_BACKEND_BACKEND_H_
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "symba/backend/backend_options.h"
+#include "symba/backend/estimates.h"
+#include "symba/backend/keyframe_input.h"
+#include "symba/categorization/categorize.h"
+#include "symba/common/status.h"
+#include "symba/factors/reprojection_factor.h"
+
+namespace symba {
+
+// Statistics of one solve.
+struct SolveReport {
+  int iterations = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  double seconds = 0.0;
+  bool converged = false;
+  int free_keyframes = 0;
+  int residual_blocks = 0;
+};
+
+// Counters over the backend's life.
+struct BackendStatistics {
+  int keyframes = 0;
+  int detections = 0;
+  int objects = 0;
+  int points = 0;
+  int object_upgrades = 0;  // asymmetric map objects that became symmetric
+  int solves = 0;
+  double solve_seconds = 0.0;
+  int solve_iterations = 0;
+};
+
+class Backend {
+ public:
+  // `intrinsics` is needed only if keyframes carry point observations;
+  // `class_priors` (may be empty) refine categorisation per class name.
+  static Status Create(const BackendOptions& options,
+                       const std::optional<PinholeIntrinsics>& intrinsics,
+                       const std::map<std::string, ClassPrior>& class_priors,
+                       std::unique_ptr<Backend>* backend);
+  ~Backend();
+  Backend(const Backend&) = delete;
+  Backend& operator=(const Backend&) = delete;
+
+  // Validates the keyframe first: on an error nothing is added.
+  Status AddKeyframe(const KeyframeInput& keyframe);
+  Status OptimizeWindow(SolveReport* report = nullptr);
+  Status OptimizeBatch(SolveReport* report = nullptr);
+
+  std::vector<KeyframeEstimate> Keyframes() const;
+  std::vector<MapObjectEstimate> Objects() const;
+  const std::vector<DetectionAssignment>& Assignments() const;
+  BackendStatistics Statistics() const;
+  const BackendOptions& options() const;
+
+ private:
+  class Impl;
+  explicit Backend(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace symba
+
+#endif  // SYMBA_BACKEND_BACKEND_H_

@@ -1,0 +1,80 @@
+// BackendOptions: every option of the backend, with its default and unit.
+// docs/backend.md explains them; Validate() says which one is out of range.
+#ifndef SYMBA_BACKEND_BACKEND_OPTIONS_H_
+#define SYMBA_BACKEND_BACKEND_OPTIONS_H_
+
+#include <string>
+
+#include "symba/categorization/categorize.h"
+#include "symba/common/status.h"
+#include "symba/factors/max_mixture.h"
+#include "symba/geometry/angle.h"
+
+namespace symba {
+
+// The three methods of the paper's Table I. Everything but the method runs
+// the same code.
+enum class Method {
+  kSymba,             // categorise, unambiguous parameters (method notes 2-6)
+  kMultiHypothesis,   // "mh": all hypotheses in one 6-DoF max-mixture (Fu et
+                      // al.)
+  kSingleHypothesis,  // "sh": the highest-weight hypothesis, plain SE(3) edge
+};
+
+const char* MethodName(Method method);  // "symba", "mh", "sh"
+// Parses "symba" | "mh" | "sh"; false for anything else.
+bool ParseMethod(const std::string& name, Method* method);
+
+enum class LossType { kNone, kHuber, kCauchy };
+const char* LossName(LossType loss);  // "none", "huber", "cauchy"
+bool ParseLoss(const std::string& name, LossType* loss);
+
+struct BackendOptions {
+  Method method = Method::kSymba;
+
+  // Windowed solve: the last `window_size` keyframes and everything they
+  // observe are free; older keyframes that observe them are held constant.
+  int window_size = 10;
+  // Levenberg-Marquardt iterations per window solve and per batch solve.
+  int max_iterations = 10;
+  int batch_max_iterations = 50;
+  int num_threads = 1;
+
+  // Default hypothesis noise when a detection gives none (m, rad).
+  double hypothesis_sigma_t = 0.05;
+  double hypothesis_sigma_r = 0.1;
+  // The continuous edge's axis weight (paper Eq. 5) and axis noise (rad).
+  double gamma = 1.0;
+  double axis_sigma = 0.1;
+  // Robust loss on every object edge; scale in whitened units.
+  LossType object_loss = LossType::kCauchy;
+  double object_loss_scale = 3.0;
+  MixtureOptions mixture;
+
+  // Camera motion: the front end's relative motion between consecutive
+  // keyframes (when a keyframe has no odometry) enters with these sigmas.
+  double frontend_sigma_t = 0.05;
+  double frontend_sigma_r = 0.02;
+  // Reprojection noise (pixels) and its Huber loss scale (whitened).
+  double point_sigma_px = 1.0;
+  double point_loss_scale = 2.0;
+
+  // Data association gates (method notes Sec. 5).
+  double gate_position = 0.5;                 // m
+  double gate_axis = 20.0 * kPi / 180.0;      // rad, axis vs axis, sign-free
+  double gate_rotation = 30.0 * kPi / 180.0;  // rad, 6-DoF rotation
+  double gate_angle = 20.0 * kPi / 180.0;     // rad, discrete angle vs angle
+
+  // A discrete object is re-anchored (a_w0 <- a_w) when its axis has moved
+  // this far from its anchor (the swing is singular at 180 degrees).
+  double reanchor_angle = 45.0 * kPi / 180.0;
+
+  CategorizationOptions categorization;
+
+  // OK, or which option is out of range and why.
+  Status Validate() const;
+};
+
+}  // namespace symba
+
+#endif  // SYMBA_BACKEND_BACKEND_OPTIONS_H_

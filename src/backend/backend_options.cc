@@ -1,0 +1,107 @@
+#include "symba/backend/backend_options.h"
+
+#include <cmath>
+#include <string>
+
+namespace symba {
+namespace {
+
+bool PositiveFinite(double value) {
+  return std::isfinite(value) && value > 0.0;
+}
+
+}  // namespace
+
+const char* MethodName(Method method) {
+  switch (method) {
+    case Method::kSymba:
+      return "symba";
+    case Method::kMultiHypothesis:
+      return "mh";
+    case Method::kSingleHypothesis:
+      return "sh";
+  }
+  return "symba";
+}
+
+bool ParseMethod(const std::string& name, Method* method) {
+  for (Method m :
+       {Method::kSymba, Method::kMultiHypothesis, Method::kSingleHypothesis}) {
+    if (name == MethodName(m)) {
+      *method = m;
+      return true;
+    }
+  }
+  return false;
+}
+
+const char* LossName(LossType loss) {
+  switch (loss) {
+    case LossType::kNone:
+      return "none";
+    case LossType::kHuber:
+      return "huber";
+    case LossType::kCauchy:
+      return "cauchy";
+  }
+  return "none";
+}
+
+bool ParseLoss(const std::string& name, LossType* loss) {
+  for (LossType l : {LossType::kNone, LossType::kHuber, LossType::kCauchy}) {
+    if (name == LossName(l)) {
+      *loss = l;
+      return true;
+    }
+  }
+  return false;
+}
+
+Status BackendOptions::Validate() const {
+  if (window_size < 1) return Status::Error("window_size must be >= 1");
+  if (max_iterations < 1 || batch_max_iterations < 1) {
+    return Status::Error(
+        "max_iterations and batch_max_iterations must be >= 1");
+  }
+  if (num_threads < 1) return Status::Error("num_threads must be >= 1");
+  const struct {
+    const char* name;
+    double value;
+  } positive[] = {
+      {"hypothesis_sigma_t", hypothesis_sigma_t},
+      {"hypothesis_sigma_r", hypothesis_sigma_r},
+      {"axis_sigma", axis_sigma},
+      {"object_loss_scale", object_loss_scale},
+      {"frontend_sigma_t", frontend_sigma_t},
+      {"frontend_sigma_r", frontend_sigma_r},
+      {"point_sigma_px", point_sigma_px},
+      {"point_loss_scale", point_loss_scale},
+      {"gate_position", gate_position},
+      {"gate_axis", gate_axis},
+      {"gate_rotation", gate_rotation},
+      {"gate_angle", gate_angle},
+      {"reanchor_angle", reanchor_angle},
+  };
+  for (const auto& option : positive) {
+    if (!PositiveFinite(option.value)) {
+      return Status::Error(std::string(option.name) +
+                           " must be positive and finite");
+    }
+  }
+  if (!std::isfinite(gamma) || gamma < 0.0) {
+    return Status::Error("gamma must be finite and >= 0");
+  }
+  if (gate_angle >= kPi || gate_axis >= kPi / 2 || reanchor_angle >= kPi) {
+    return Status::Error(
+        "gate_angle and reanchor_angle must be < pi, gate_axis < pi/2");
+  }
+  if (!mixture.IsValid()) {
+    return Status::Error(
+        "mixture: null_weight must be positive and null_sigma_scale > 1");
+  }
+  Status status = categorization.Validate();
+  if (!status.ok()) return Status::Error("categorization: " + status.message());
+  return Status::Ok();
+}
+
+}  // namespace symba

@@ -1,0 +1,111 @@
+// The backend's internal state: keyframes, map objects, map points and the
+// factors between them, all addressed by index into stable containers. Not
+// installed; see symba/backend/backend.h for the public API.
+#ifndef SYMBA_SRC_BACKEND_BACKEND_STATE_H_
+#define SYMBA_SRC_BACKEND_BACKEND_STATE_H_
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <ceres/cost_function.h>
+#include <ceres/loss_function.h>
+#include <ceres/problem.h>
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "symba/categorization/symmetry_type.h"
+#include "symba/factors/discrete_object_edge.h"
+#include "symba/factors/pose_component.h"
+#include "symba/geometry/rigid3.h"
+
+namespace symba::internal {
+
+inline Rigid3d ReadPose(const double* q, const double* t) {
+  return Rigid3d(Eigen::Map<const Eigen::Quaterniond>(q),
+                 Eigen::Map<const Eigen::Vector3d>(t));
+}
+
+inline void WritePose(const Rigid3d& T, double* q, double* t) {
+  Eigen::Map<Eigen::Quaterniond> q_map(q);
+  Eigen::Map<Eigen::Vector3d> t_map(t);
+  q_map = T.q.normalized();
+  t_map = T.t;
+}
+
+struct KeyframeState {
+  int64_t id = 0;
+  double timestamp = 0.0;
+  double q[4] = {0, 0, 0, 1};  // q_wc, Eigen order
+  double t[3] = {0, 0, 0};     // t_wc
+  std::optional<Rigid3d> T_wc_frontend;
+  std::vector<int> factors;  // every factor touching this keyframe
+
+  Rigid3d T_wc() const { return ReadPose(q, t); }
+};
+
+// One detection's contribution to one object edge, kept so the edge can be
+// rebuilt when its object changes type or is re-anchored.
+struct ObjectObservation {
+  int keyframe = -1;                      // keyframe index
+  std::vector<PoseComponent> components;  // this edge's hypotheses
+  Rigid3d T_co_best;                      // representative hypothesis
+  Eigen::Vector3d axis_c = Eigen::Vector3d::Zero();  // measured axis, if any
+  int angle = -1;  // discrete: the angle it constrains; -1: no angle
+};
+
+struct ObjectState {
+  int id = 0;
+  std::string class_name;
+  SymmetryType type = SymmetryType::kAsymmetric;
+  double q[4] = {0, 0, 0, 1};                     // q_wo (asymmetric)
+  double t[3] = {0, 0, 0};                        // t_wo (every type)
+  double a_w[3] = {0, 0, 1};                      // world axis (symmetric)
+  Eigen::Vector3d a_o = Eigen::Vector3d::Zero();  // object-frame axis
+  SymmetryAnchor anchor;
+  std::vector<std::unique_ptr<double>> thetas;  // stable addresses
+  std::vector<ObjectObservation> observations;
+  std::vector<int> factors;
+  int detections = 0;
+
+  Eigen::Vector3d position() const {
+    return Eigen::Map<const Eigen::Vector3d>(t);
+  }
+  Eigen::Vector3d axis_w() const {
+    return Eigen::Map<const Eigen::Vector3d>(a_w);
+  }
+  // The world rotation of angle i (discrete) or of the pose (asymmetric).
+  Eigen::Quaterniond Rotation(int angle) const {
+    if (type == SymmetryType::kAsymmetric) {
+      return Eigen::Map<const Eigen::Quaterniond>(q);
+    }
+    const double theta = angle >= 0 ? *thetas[angle] : 0.0;
+    return SymmetricObjectRotation(anchor, axis_w(), theta);
+  }
+};
+
+struct PointState {
+  int64_t id = 0;
+  double p[3] = {0, 0, 0};  // p_w
+  std::vector<int> factors;
+};
+
+// A factor and where it sits. The record owns its cost function; the
+// problem borrows it while the factor is active.
+struct FactorRecord {
+  std::unique_ptr<ceres::CostFunction> cost;
+  const ceres::LossFunction* loss = nullptr;
+  std::vector<double*> blocks;
+  int keyframe = -1;   // keyframe index
+  int keyframe2 = -1;  // the other keyframe of an odometry factor
+  int object = -1;
+  int point = -1;
+  ceres::ResidualBlockId residual = nullptr;  // non-null while in the problem
+  bool retired = false;                       // replaced by a rebuilt factor
+};
+
+}  // namespace symba::internal
+
+#endif  // SYMBA_SRC_BACKEND_BACKEND_STATE_H_

@@ -5,6 +5,12 @@
 // the output. Deterministic for a given seed.
 //
 //   symba-categorization-bench [--detections=1000] [--seed=1] [--n=30]
+//                              [--set=<option>=<value>]... [--stats]
+//
+// --set overrides one CategorizationOptions field (angles in degrees, the
+// translation gate in metres), to measure the sensitivity of a threshold.
+// --stats adds, per cell, percentiles of the statistics the decision rule
+// thresholds (docs/categorization.md uses them to defend the defaults).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -30,6 +36,13 @@ struct Shape {
   SymmetryType type;
   int order;
   std::vector<int> visible;
+};
+
+struct DecisionStats {
+  std::vector<double> empty;       // empty fraction
+  std::vector<double> extent;      // max cluster extent, deg
+  std::vector<double> separation;  // min cluster separation, deg (>= 2)
+  std::vector<double> noise;       // DBSCAN noise / axis inliers
 };
 
 struct CellStats {
@@ -115,7 +128,32 @@ void Score(const GeneratedDetection& d,
   stats->all_modes_found += found == visible;
 }
 
-int Run(int detections, unsigned seed, int num_hypotheses) {
+void PrintDecisionStats(const std::string& cell, const DecisionStats& s) {
+  auto row = [](const char* name, const std::vector<double>& v) {
+    if (v.empty()) return;
+    std::printf(
+        "    %-22s p0.1 %7.3f  p1 %7.3f  p50 %7.3f  p99 %7.3f  "
+        "p99.9 %7.3f\n",
+        name,
+        Percentile(v, 0.001),
+        Percentile(v, 0.01),
+        Percentile(v, 0.5),
+        Percentile(v, 0.99),
+        Percentile(v, 0.999));
+  };
+  if (s.empty.empty()) return;
+  std::printf("  %s\n", cell.c_str());
+  row("empty fraction", s.empty);
+  row("max extent (deg)", s.extent);
+  row("min separation (deg)", s.separation);
+  row("noise fraction", s.noise);
+}
+
+int Run(int detections,
+        unsigned seed,
+        int num_hypotheses,
+        const CategorizationOptions& options,
+        bool print_stats) {
   const std::vector<Shape> shapes = {
       {"asymmetric", SymmetryType::kAsymmetric, 1, {}},
       {"continuous", SymmetryType::kContinuous, 1, {}},
@@ -135,8 +173,8 @@ int Run(int detections, unsigned seed, int num_hypotheses) {
   };
   const double noises[] = {2.0, 5.0};
   const double outlier_fractions[] = {0.0, 0.1, 0.2};
-  CategorizationOptions options;
   int confusion[3][3] = {{0}};
+  std::vector<std::pair<std::string, DecisionStats>> all_decision_stats;
   double seconds = 0.0;
   long total = 0;
 
@@ -176,6 +214,7 @@ int Run(int detections, unsigned seed, int num_hypotheses) {
         spec.num_hypotheses = num_hypotheses;
         testing::TestRandom random(cell_seed++);
         CellStats stats;
+        DecisionStats decision;
         CategorizedDetection result;
         int expected = 0;
         for (int i = 0; i < detections; ++i) {
@@ -192,6 +231,16 @@ int Run(int detections, unsigned seed, int num_hypotheses) {
             return 1;
           }
           Score(d, result, shape.order, &stats);
+          const CategorizationDiagnostics& g = result.diagnostics;
+          if (g.num_axis_inliers > 0 && g.num_raw_clusters > 0) {
+            decision.empty.push_back(g.empty_fraction);
+            decision.extent.push_back(g.max_cluster_extent / kDegree);
+            if (g.min_cluster_separation > 0) {
+              decision.separation.push_back(g.min_cluster_separation / kDegree);
+            }
+            decision.noise.push_back(static_cast<double>(g.num_noise) /
+                                     g.num_axis_inliers);
+          }
           expected = static_cast<int>(d.expected_type);
           ++confusion[expected][static_cast<int>(result.type)];
         }
@@ -239,7 +288,25 @@ int Run(int detections, unsigned seed, int num_hypotheses) {
             modes,
             outin,
             100.0 * stats.inliers_kept / stats.inliers);
+        if (print_stats) {
+          char name[64];
+          std::snprintf(name,
+                        sizeof(name),
+                        "%s, noise %.0f deg, %.0f %% outliers",
+                        shape.name.c_str(),
+                        noise,
+                        100 * outliers);
+          all_decision_stats.emplace_back(name, std::move(decision));
+        }
       }
+    }
+  }
+  if (print_stats) {
+    std::printf(
+        "\ndecision statistics of the final pass, per cell (detections that "
+        "reached the twist clustering)\n");
+    for (const auto& [name, decision] : all_decision_stats) {
+      PrintDecisionStats(name, decision);
     }
   }
   std::printf(
@@ -270,10 +337,65 @@ int Run(int detections, unsigned seed, int num_hypotheses) {
 }  // namespace
 }  // namespace symba
 
+namespace {
+
+// Sets one option from "--set=<name>=<value>"; angles are given in degrees.
+bool SetOption(const std::string& assignment,
+               symba::CategorizationOptions* options) {
+  const size_t eq = assignment.find('=');
+  if (eq == std::string::npos) return false;
+  const std::string name = assignment.substr(0, eq);
+  char* end = nullptr;
+  const double value = std::strtod(assignment.c_str() + eq + 1, &end);
+  if (end == assignment.c_str() + eq + 1 || *end != '\0') return false;
+  constexpr double kDeg = symba::testing::kDegree;
+  const std::pair<const char*, double*> angles[] = {
+      {"min_axis_angle", &options->min_axis_angle},
+      {"axis_vote_angle", &options->axis_vote_angle},
+      {"swing_tolerance", &options->swing_tolerance},
+      {"cluster_eps", &options->cluster_eps},
+      {"max_cluster_extent", &options->max_cluster_extent},
+      {"min_cluster_separation", &options->min_cluster_separation},
+      {"empty_gap_angle", &options->empty_gap_angle},
+      {"asymmetric_inlier_angle", &options->asymmetric_inlier_angle},
+      {"prior_snap_angle", &options->prior_snap_angle}};
+  for (const auto& [key, field] : angles) {
+    if (name == key) {
+      *field = value * kDeg;
+      return true;
+    }
+  }
+  const std::pair<const char*, double*> plain[] = {
+      {"separation_ratio", &options->separation_ratio},
+      {"max_noise_fraction", &options->max_noise_fraction},
+      {"min_empty_fraction", &options->min_empty_fraction},
+      {"translation_gate", &options->translation_gate}};
+  for (const auto& [key, field] : plain) {
+    if (name == key) {
+      *field = value;
+      return true;
+    }
+  }
+  if (name == "min_points") {
+    options->min_points = static_cast<int>(value);
+  } else if (name == "rescue_min_points") {
+    options->rescue_min_points = static_cast<int>(value);
+  } else if (name == "merge_close_clusters") {
+    options->merge_close_clusters = value != 0.0;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   int detections = 1000;
   unsigned seed = 1;
   int n = 30;
+  bool stats = false;
+  symba::CategorizationOptions options;
   for (int i = 1; i < argc; ++i) {
     const char* arg = argv[i];
     if (std::strncmp(arg, "--detections=", 13) == 0) {
@@ -282,9 +404,15 @@ int main(int argc, char** argv) {
       seed = static_cast<unsigned>(std::strtoul(arg + 7, nullptr, 10));
     } else if (std::strncmp(arg, "--n=", 4) == 0) {
       n = std::atoi(arg + 4);
+    } else if (std::strcmp(arg, "--stats") == 0) {
+      stats = true;
+    } else if (std::strncmp(arg, "--set=", 6) == 0 &&
+               SetOption(arg + 6, &options)) {
+      std::printf("option %s\n", arg + 6);
     } else {
       std::fprintf(stderr,
-                   "usage: %s [--detections=1000] [--seed=1] [--n=30]\n",
+                   "usage: %s [--detections=1000] [--seed=1] [--n=30] "
+                   "[--set=<option>=<value>]... [--stats]\n",
                    argv[0]);
       return 2;
     }
@@ -293,5 +421,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "--detections and --n must be positive\n");
     return 2;
   }
-  return symba::Run(detections, seed, n);
+  const symba::Status status = options.Validate();
+  if (!status.ok()) {
+    std::fprintf(stderr, "%s\n", status.message().c_str());
+    return 2;
+  }
+  return symba::Run(detections, seed, n, options, stats);
 }

@@ -509,7 +509,7 @@ TEST(CategorizeTest, TargetCellDecisionsAndTolerances) {
   };
   unsigned seed = 100;
   for (const Case& c : cases) {
-    const CellResult r = RunCell(c.spec, 200, seed++);
+    const CellResult r = RunCell(c.spec, 150, seed++);
     EXPECT_GE(r.correct, 0.98 * r.count) << c.name;
     if (!r.axis_error.empty()) {
       EXPECT_LT(Median(r.axis_error), 2.0) << c.name;
@@ -532,7 +532,7 @@ TEST(CategorizeTest, LowNoiseCellsAreExact) {
           Spec(SymmetryType::kDiscrete, 3, {}, 2, outliers),
           Spec(SymmetryType::kDiscrete, 6, {0, 1}, 2, outliers),
           Spec(SymmetryType::kDiscrete, 2, {0}, 2, outliers)}) {
-      const CellResult r = RunCell(spec, 100, seed++);
+      const CellResult r = RunCell(spec, 60, seed++);
       EXPECT_GE(r.correct, 0.98 * r.count);
       if (!r.axis_error.empty()) {
         EXPECT_LT(Median(r.axis_error), 1.5);

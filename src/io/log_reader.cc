@@ -1,0 +1,771 @@
+// LogReader: the log format v1 (docs/log-format.md), one line at a time.
+//
+// Each line is parsed into a reused JsonTree (io/json_tree.h) and then
+// validated and converted in one pass. Error paths are only turned into
+// text when an error is reported, so a valid line costs no string building.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <utility>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+
+#include "io/json_text.h"
+#include "io/json_tree.h"
+#include "symba/categorization/symmetry_type.h"
+#include "symba/io/log_format.h"
+
+namespace symba {
+namespace {
+
+using io_internal::Approx;
+using io_internal::JsonError;
+using io_internal::JsonTree;
+using io_internal::JsonType;
+using io_internal::Shortest;
+using Index = JsonTree::Index;
+
+constexpr double kUnitTolerance = 1e-3;
+// A quaternion whose squared norm is this close to 1 is already unit to
+// machine precision and is kept bit for bit.
+constexpr double kExactlyUnit = 8.0 * std::numeric_limits<double>::epsilon();
+
+constexpr char kHeaderExample[] =
+    "{\"format\": \"symba-log\", \"version\": 1, ...}";
+
+// Where a value sits in the line's JSON, e.g. detections[0].hypotheses[2].q.
+// Paths live on the stack and are only spelled out for an error message.
+struct Path {
+  const Path* parent = nullptr;
+  std::string_view key;  // member name, when index < 0
+  int64_t index = -1;    // array element
+
+  Path Member(std::string_view name) const { return Path{this, name, -1}; }
+  Path Element(int64_t i) const { return Path{this, {}, i}; }
+  bool IsRoot() const { return parent == nullptr; }
+
+  void Append(std::string* out) const {
+    if (parent == nullptr) return;
+    parent->Append(out);
+    if (index >= 0) {
+      out->append("[").append(std::to_string(index)).append("]");
+    } else {
+      if (!parent->IsRoot()) out->push_back('.');
+      out->append(key);
+    }
+  }
+};
+
+// A string value for a message: quoted, control bytes escaped, long ones cut.
+std::string Quote(std::string_view text) {
+  constexpr std::size_t kMax = 40;
+  const bool cut = text.size() > kMax;
+  std::string out;
+  io_internal::AppendJsonString(cut ? text.substr(0, kMax) : text, &out);
+  if (cut) out.insert(out.size() - 1, "...");
+  return out;
+}
+
+// Validates and converts the JSON of one line; every error names the file,
+// the line and the path.
+class LineReader {
+ public:
+  LineReader(const std::string& name, int line, const JsonTree& tree)
+      : name_(name), line_(line), tree_(tree) {}
+
+  Status Fail(const Path& path, std::string_view what) const {
+    std::string message = name_ + ":" + std::to_string(line_) + ": ";
+    if (!path.IsRoot()) {
+      path.Append(&message);
+      message.append(": ");
+    }
+    message.append(what);
+    return Status::Error(std::move(message));
+  }
+
+  JsonType Type(Index i) const { return tree_.node(i).type; }
+  Index Find(Index object, std::string_view key) const {
+    return tree_.Find(object, key);
+  }
+  const JsonTree& tree() const { return tree_; }
+
+  // "a string", "an array", "1.5", ... for "expected X, got Y".
+  std::string Describe(Index i) const {
+    const JsonTree::Node& node = tree_.node(i);
+    switch (node.type) {
+      case JsonType::kNull:
+        return "null";
+      case JsonType::kFalse:
+        return "false";
+      case JsonType::kTrue:
+        return "true";
+      case JsonType::kInteger:
+        return std::to_string(node.integer);
+      case JsonType::kUnsigned:
+        return std::to_string(node.unsigned_integer);
+      case JsonType::kFloat:
+        return Shortest(node.number);
+      case JsonType::kString:
+        return "the string " + Quote(tree_.String(i));
+      case JsonType::kArray:
+        return "an array";
+      case JsonType::kObject:
+        return "an object";
+    }
+    return "?";
+  }
+
+  Status Object(Index i, const Path& path) const {
+    if (Type(i) == JsonType::kObject) return Status::Ok();
+    return Fail(path, "expected an object, got " + Describe(i));
+  }
+
+  Status Array(Index i, const Path& path) const {
+    if (Type(i) == JsonType::kArray) return Status::Ok();
+    return Fail(path, "expected an array, got " + Describe(i));
+  }
+
+  Status Number(Index i, const Path& path, double* out) const {
+    const JsonTree::Node& node = tree_.node(i);
+    switch (node.type) {
+      case JsonType::kInteger:
+        *out = static_cast<double>(node.integer);
+        break;
+      case JsonType::kUnsigned:
+        *out = static_cast<double>(node.unsigned_integer);
+        break;
+      case JsonType::kFloat:
+        *out = node.number;
+        break;
+      default:
+        return Fail(path, "expected a number, got " + Describe(i));
+    }
+    // JSON has no literal for them and the parser refuses overflow, so this
+    // only guards the invariant.
+    if (!std::isfinite(*out)) return Fail(path, "number is not finite");
+    return Status::Ok();
+  }
+
+  Status Positive(Index i, const Path& path, double* out) const {
+    Status status = Number(i, path, out);
+    if (!status.ok()) return status;
+    if (!(*out > 0.0))
+      return Fail(path, "must be positive, got " + Describe(i));
+    return Status::Ok();
+  }
+
+  // A JSON integer, or a number with zero fractional part, in int64 range.
+  Status Integer(Index i, const Path& path, int64_t* out) const {
+    const JsonTree::Node& node = tree_.node(i);
+    switch (node.type) {
+      case JsonType::kInteger:
+        *out = node.integer;
+        return Status::Ok();
+      case JsonType::kUnsigned:
+        if (node.unsigned_integer >
+            static_cast<uint64_t>(std::numeric_limits<int64_t>::max())) {
+          return Fail(path, "integer " + Describe(i) + " is out of range");
+        }
+        *out = static_cast<int64_t>(node.unsigned_integer);
+        return Status::Ok();
+      case JsonType::kFloat: {
+        const double value = node.number;
+        if (std::floor(value) != value) {
+          return Fail(path, "expected an integer, got " + Describe(i));
+        }
+        // [-2^63, 2^63): exactly the doubles that convert to int64.
+        if (!(value >= -9223372036854775808.0 &&
+              value < 9223372036854775808.0)) {
+          return Fail(path, "integer " + Describe(i) + " is out of range");
+        }
+        *out = static_cast<int64_t>(value);
+        return Status::Ok();
+      }
+      default:
+        return Fail(path, "expected an integer, got " + Describe(i));
+    }
+  }
+
+  Status String(Index i, const Path& path, std::string_view* out) const {
+    if (Type(i) != JsonType::kString) {
+      return Fail(path, "expected a string, got " + Describe(i));
+    }
+    *out = tree_.String(i);
+    return Status::Ok();
+  }
+
+  Status Require(Index object,
+                 const Path& path,
+                 std::string_view key,
+                 std::string_view hint,
+                 Index* out) const {
+    *out = Find(object, key);
+    if (*out != 0) return Status::Ok();
+    std::string what = "missing";
+    if (!hint.empty()) what.append(" (").append(hint).append(")");
+    return Fail(path.Member(key), what);
+  }
+
+  // An array of exactly n numbers.
+  Status Numbers(Index i, const Path& path, int n, double* out) const {
+    const JsonTree::Node& node = tree_.node(i);
+    if (node.type != JsonType::kArray ||
+        node.size != static_cast<uint32_t>(n)) {
+      std::string what =
+          "expected an array of " + std::to_string(n) + " numbers, got ";
+      if (node.type == JsonType::kArray) {
+        what += std::to_string(node.size) +
+                (node.size == 1 ? " element" : " elements");
+      } else {
+        what += Describe(i);
+      }
+      return Fail(path, what);
+    }
+    int k = 0;
+    for (Index e = node.first; e != 0; e = tree_.node(e).next, ++k) {
+      Status status = Number(e, path.Element(k), &out[k]);
+      if (!status.ok()) return status;
+    }
+    return Status::Ok();
+  }
+
+  // {"t": [x, y, z], "q": [qx, qy, qz, qw]} or {"t": [...], "R": [9]}.
+  Status Pose(Index i, const Path& path, Rigid3d* pose) const {
+    Status status = Object(i, path);
+    if (!status.ok()) return status;
+    Index t = 0;
+    status = Require(i, path, "t", "the translation [x, y, z]", &t);
+    if (!status.ok()) return status;
+    status = Numbers(t, path.Member("t"), 3, pose->t.data());
+    if (!status.ok()) return status;
+    const Index q = Find(i, "q");
+    const Index r = Find(i, "R");
+    if (q != 0 && r != 0) {
+      return Fail(path, "has both q and R; give one rotation");
+    }
+    if (q == 0 && r == 0) {
+      return Fail(path,
+                  "has neither q [qx, qy, qz, qw] nor R (row-major 3 x 3); "
+                  "one of them is required");
+    }
+    if (q != 0) {
+      const Path q_path = path.Member("q");
+      double v[4];
+      status = Numbers(q, q_path, 4, v);
+      if (!status.ok()) return status;
+      pose->q = Eigen::Quaterniond(v[3], v[0], v[1], v[2]);  // w, x, y, z
+      return Normalize(q_path, &pose->q);
+    }
+    const Path r_path = path.Member("R");
+    double v[9];
+    status = Numbers(r, r_path, 9, v);
+    if (!status.ok()) return status;
+    const Eigen::Matrix3d R =
+        Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(v);
+    const double deviation =
+        (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+    if (!(deviation <= kUnitTolerance)) {
+      return Fail(r_path,
+                  "not a rotation: R^T R differs from the identity by " +
+                      Approx(deviation) + " (more than 1e-3)");
+    }
+    const double det = R.determinant();
+    if (!(det > 0.0)) {
+      return Fail(
+          r_path,
+          "not a rotation: det(R) = " + Approx(det) + " is not positive");
+    }
+    // The nearest rotation in the Frobenius norm: U V^T.
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(
+        R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Eigen::Matrix3d R_projected =
+        svd.matrixU() * svd.matrixV().transpose();
+    pose->q = Eigen::Quaterniond(R_projected);
+    return Normalize(r_path, &pose->q);
+  }
+
+  Status Normalize(const Path& path, Eigen::Quaterniond* q) const {
+    const double squared_norm = q->squaredNorm();
+    const double norm = std::sqrt(squared_norm);
+    if (!(std::abs(norm - 1.0) <= kUnitTolerance)) {
+      return Fail(
+          path, "quaternion norm " + Approx(norm) + " is not within 1e-3 of 1");
+    }
+    if (std::abs(squared_norm - 1.0) > kExactlyUnit) q->coeffs() /= norm;
+    return Status::Ok();
+  }
+
+ private:
+  const std::string& name_;
+  int line_;
+  const JsonTree& tree_;
+};
+
+Status ReadHeader(const LineReader& in, LogHeader* header) {
+  const Path root;
+  if (in.Type(0) != JsonType::kObject) {
+    return in.Fail(root,
+                   "the header must be a JSON object " +
+                       std::string(kHeaderExample) + ", got " + in.Describe(0));
+  }
+  Index format = 0;
+  Status status =
+      in.Require(0,
+                 root,
+                 "format",
+                 "line 1 must be the header " + std::string(kHeaderExample),
+                 &format);
+  if (!status.ok()) return status;
+  if (in.Type(format) != JsonType::kString ||
+      in.tree().String(format) != "symba-log") {
+    return in.Fail(root.Member("format"),
+                   "expected \"symba-log\", got " + in.Describe(format));
+  }
+  Index version = 0;
+  status = in.Require(0, root, "version", "", &version);
+  if (!status.ok()) return status;
+  int64_t version_number = 0;
+  status = in.Integer(version, root.Member("version"), &version_number);
+  if (!status.ok()) return status;
+  if (version_number != kLogFormatVersion) {
+    return in.Fail(root,
+                   "version " + in.Describe(version) +
+                       " is not supported (this reader reads version " +
+                       std::to_string(kLogFormatVersion) + ")");
+  }
+  header->version = kLogFormatVersion;
+
+  header->camera.reset();
+  if (const Index camera = in.Find(0, "camera"); camera != 0) {
+    const Path path = root.Member("camera");
+    status = in.Object(camera, path);
+    if (!status.ok()) return status;
+    PinholeIntrinsics intrinsics;
+    struct Field {
+      const char* key;
+      double* value;
+      bool positive;
+    };
+    const Field fields[] = {{"fx", &intrinsics.fx, true},
+                            {"fy", &intrinsics.fy, true},
+                            {"cx", &intrinsics.cx, false},
+                            {"cy", &intrinsics.cy, false}};
+    for (const Field& field : fields) {
+      Index value = 0;
+      status = in.Require(camera, path, field.key, "", &value);
+      if (!status.ok()) return status;
+      const Path field_path = path.Member(field.key);
+      status = field.positive ? in.Positive(value, field_path, field.value)
+                              : in.Number(value, field_path, field.value);
+      if (!status.ok()) return status;
+    }
+    header->camera = intrinsics;
+  }
+
+  header->classes.clear();
+  if (const Index classes = in.Find(0, "classes"); classes != 0) {
+    const Path path = root.Member("classes");
+    status = in.Object(classes, path);
+    if (!status.ok()) return status;
+    for (Index c = in.tree().node(classes).first; c != 0;
+         c = in.tree().node(c).next) {
+      const std::string_view name = in.tree().Key(c);
+      if (in.Find(classes, name) != c) continue;  // a later one counts
+      const Path class_path = path.Member(name);
+      status = in.Object(c, class_path);
+      if (!status.ok()) return status;
+      ClassPrior prior;
+      Index symmetry = 0;
+      status = in.Require(c,
+                          class_path,
+                          "symmetry",
+                          "\"asymmetric\", \"discrete\" or \"continuous\"",
+                          &symmetry);
+      if (!status.ok()) return status;
+      std::string_view symmetry_name;
+      status =
+          in.String(symmetry, class_path.Member("symmetry"), &symmetry_name);
+      if (!status.ok()) return status;
+      const std::optional<SymmetryType> type = ParseSymmetryType(symmetry_name);
+      if (!type) {
+        return in.Fail(class_path.Member("symmetry"),
+                       "unknown symmetry " + Quote(symmetry_name) +
+                           " (expected \"asymmetric\", \"discrete\" or "
+                           "\"continuous\")");
+      }
+      prior.symmetry = *type;
+      const Index order = in.Find(c, "order");
+      const Path order_path = class_path.Member("order");
+      if (prior.symmetry == SymmetryType::kDiscrete) {
+        if (order == 0) {
+          return in.Fail(order_path,
+                         "missing (a discrete class needs its symmetry order, "
+                         "an integer >= 2)");
+        }
+        int64_t order_value = 0;
+        status = in.Integer(order, order_path, &order_value);
+        if (!status.ok()) return status;
+        if (order_value < 2 || order_value > 1000000) {
+          return in.Fail(order_path,
+                         "must be an integer from 2 to 1000000, got " +
+                             in.Describe(order));
+        }
+        prior.order = static_cast<int>(order_value);
+      } else if (order != 0) {
+        return in.Fail(order_path, "only a discrete class has an order");
+      }
+      if (const Index axis = in.Find(c, "axis"); axis != 0) {
+        const Path axis_path = class_path.Member("axis");
+        if (prior.symmetry == SymmetryType::kAsymmetric) {
+          return in.Fail(axis_path, "an asymmetric class has no symmetry axis");
+        }
+        status = in.Numbers(axis, axis_path, 3, prior.axis_o.data());
+        if (!status.ok()) return status;
+        if (prior.axis_o.isZero(0.0)) {
+          return in.Fail(axis_path, "must not be the zero vector");
+        }
+      }
+      header->classes[std::string(name)] = prior;
+    }
+  }
+  return Status::Ok();
+}
+
+// What the checks across keyframes need to know about the previous one.
+struct Previous {
+  bool exists = false;
+  int64_t id = 0;
+  double timestamp = 0.0;
+  int line = 0;
+};
+
+Status ReadDetection(const LineReader& in,
+                     Index d,
+                     const Path& path,
+                     int64_t keyframe_id,
+                     int64_t index,
+                     DetectionInput* detection) {
+  Status status = in.Object(d, path);
+  if (!status.ok()) return status;
+  std::string_view text;
+  detection->id.clear();
+  if (const Index id = in.Find(d, "id"); id != 0) {
+    status = in.String(id, path.Member("id"), &text);
+    if (!status.ok()) return status;
+    detection->id.assign(text);
+  }
+  if (detection->id.empty()) {
+    detection->id = std::to_string(keyframe_id);
+    detection->id.push_back('/');
+    detection->id.append(std::to_string(index));
+  }
+  Index class_name = 0;
+  status =
+      in.Require(d, path, "class", "the object class, a string", &class_name);
+  if (!status.ok()) return status;
+  status = in.String(class_name, path.Member("class"), &text);
+  if (!status.ok()) return status;
+  detection->class_name.assign(text);
+
+  detection->score = 1.0;
+  if (const Index score = in.Find(d, "score"); score != 0) {
+    status = in.Number(score, path.Member("score"), &detection->score);
+    if (!status.ok()) return status;
+  }
+  struct Sigma {
+    const char* key;
+    std::optional<double>* value;
+  };
+  for (const Sigma& sigma : {Sigma{"sigma_t", &detection->sigma_t},
+                             Sigma{"sigma_r", &detection->sigma_r}}) {
+    sigma.value->reset();
+    if (const Index s = in.Find(d, sigma.key); s != 0) {
+      double value = 0.0;
+      status = in.Positive(s, path.Member(sigma.key), &value);
+      if (!status.ok()) return status;
+      *sigma.value = value;
+    }
+  }
+
+  Index hypotheses = 0;
+  status =
+      in.Require(d, path, "hypotheses", "at least one pose T_co", &hypotheses);
+  if (!status.ok()) return status;
+  const Path hypotheses_path = path.Member("hypotheses");
+  status = in.Array(hypotheses, hypotheses_path);
+  if (!status.ok()) return status;
+  const uint32_t count = in.tree().node(hypotheses).size;
+  if (count == 0) {
+    return in.Fail(hypotheses_path,
+                   "empty; a detection needs at least one hypothesis");
+  }
+  detection->hypotheses.resize(count);
+  int64_t k = 0;
+  for (Index h = in.tree().node(hypotheses).first; h != 0;
+       h = in.tree().node(h).next, ++k) {
+    const Path h_path = hypotheses_path.Element(k);
+    PoseHypothesis& hypothesis = detection->hypotheses[k];
+    status = in.Pose(h, h_path, &hypothesis.T_co);
+    if (!status.ok()) return status;
+    hypothesis.weight = 1.0;
+    if (const Index w = in.Find(h, "w"); w != 0) {
+      status = in.Positive(w, h_path.Member("w"), &hypothesis.weight);
+      if (!status.ok()) return status;
+    }
+  }
+  return Status::Ok();
+}
+
+Status ReadKeyframe(const LineReader& in,
+                    const LogHeader& header,
+                    const Previous& previous,
+                    KeyframeInput* keyframe) {
+  const Path root;
+  if (in.Type(0) != JsonType::kObject) {
+    return in.Fail(root,
+                   "a keyframe must be a JSON object, got " + in.Describe(0));
+  }
+  Index id = 0;
+  Status status =
+      in.Require(0, root, "keyframe", "the keyframe id, an integer", &id);
+  if (!status.ok()) return status;
+  status = in.Integer(id, root.Member("keyframe"), &keyframe->id);
+  if (!status.ok()) return status;
+  if (previous.exists && keyframe->id <= previous.id) {
+    return in.Fail(root.Member("keyframe"),
+                   "id " + std::to_string(keyframe->id) +
+                       " is not greater than the previous keyframe's id " +
+                       std::to_string(previous.id) + " (line " +
+                       std::to_string(previous.line) + ")");
+  }
+  Index t = 0;
+  status = in.Require(0, root, "t", "the timestamp in seconds", &t);
+  if (!status.ok()) return status;
+  status = in.Number(t, root.Member("t"), &keyframe->timestamp);
+  if (!status.ok()) return status;
+  if (previous.exists && keyframe->timestamp < previous.timestamp) {
+    return in.Fail(root.Member("t"),
+                   Shortest(keyframe->timestamp) +
+                       " is before the previous keyframe's time " +
+                       Shortest(previous.timestamp) + " (line " +
+                       std::to_string(previous.line) + ")");
+  }
+
+  keyframe->T_wc.reset();
+  if (const Index pose = in.Find(0, "T_wc"); pose != 0) {
+    Rigid3d T_wc;
+    status = in.Pose(pose, root.Member("T_wc"), &T_wc);
+    if (!status.ok()) return status;
+    keyframe->T_wc = T_wc;
+  }
+  keyframe->odometry.reset();
+  if (const Index odometry = in.Find(0, "odometry"); odometry != 0) {
+    const Path path = root.Member("odometry");
+    status = in.Object(odometry, path);
+    if (!status.ok()) return status;
+    Odometry value;
+    Index field = 0;
+    status = in.Require(odometry, path, "T", "the pose T_{prev,cur}", &field);
+    if (!status.ok()) return status;
+    status = in.Pose(field, path.Member("T"), &value.T_prev_cur);
+    if (!status.ok()) return status;
+    status = in.Require(odometry, path, "sigma_t", "in metres", &field);
+    if (!status.ok()) return status;
+    status = in.Positive(field, path.Member("sigma_t"), &value.sigma_t);
+    if (!status.ok()) return status;
+    status = in.Require(odometry, path, "sigma_r", "in radians", &field);
+    if (!status.ok()) return status;
+    status = in.Positive(field, path.Member("sigma_r"), &value.sigma_r);
+    if (!status.ok()) return status;
+    keyframe->odometry = value;
+  }
+  if (!previous.exists && !keyframe->T_wc) {
+    return in.Fail(root.Member("T_wc"),
+                   "missing (the first keyframe needs the camera pose T_wc)");
+  }
+  if (!keyframe->T_wc && !keyframe->odometry) {
+    return in.Fail(root,
+                   "neither T_wc nor odometry (every keyframe after the first "
+                   "needs at least one of them)");
+  }
+
+  keyframe->detections.clear();
+  if (const Index detections = in.Find(0, "detections"); detections != 0) {
+    const Path path = root.Member("detections");
+    status = in.Array(detections, path);
+    if (!status.ok()) return status;
+    keyframe->detections.resize(in.tree().node(detections).size);
+    int64_t k = 0;
+    for (Index d = in.tree().node(detections).first; d != 0;
+         d = in.tree().node(d).next, ++k) {
+      status = ReadDetection(
+          in, d, path.Element(k), keyframe->id, k, &keyframe->detections[k]);
+      if (!status.ok()) return status;
+    }
+  }
+
+  keyframe->points.clear();
+  if (const Index points = in.Find(0, "points"); points != 0) {
+    const Path path = root.Member("points");
+    status = in.Array(points, path);
+    if (!status.ok()) return status;
+    const uint32_t count = in.tree().node(points).size;
+    if (count > 0 && !header.camera) {
+      return in.Fail(path,
+                     "the header (line 1) has no camera; point observations "
+                     "need its intrinsics");
+    }
+    keyframe->points.resize(count);
+    int64_t k = 0;
+    for (Index p = in.tree().node(points).first; p != 0;
+         p = in.tree().node(p).next, ++k) {
+      const Path p_path = path.Element(k);
+      PointObservation& point = keyframe->points[k];
+      status = in.Object(p, p_path);
+      if (!status.ok()) return status;
+      Index field = 0;
+      status =
+          in.Require(p, p_path, "id", "the map point id, an integer", &field);
+      if (!status.ok()) return status;
+      status = in.Integer(field, p_path.Member("id"), &point.id);
+      if (!status.ok()) return status;
+      status = in.Require(p, p_path, "uv", "pixel coordinates [u, v]", &field);
+      if (!status.ok()) return status;
+      status = in.Numbers(field, p_path.Member("uv"), 2, point.uv.data());
+      if (!status.ok()) return status;
+      point.depth.reset();
+      if (const Index depth = in.Find(p, "depth"); depth != 0) {
+        double value = 0.0;
+        status = in.Positive(depth, p_path.Member("depth"), &value);
+        if (!status.ok()) return status;
+        point.depth = value;
+      }
+    }
+  }
+  return Status::Ok();
+}
+
+bool IsBlank(const std::string& line) {
+  return line.find_first_not_of(" \t\r\n") == std::string::npos;
+}
+
+}  // namespace
+
+class LogReader::Impl {
+ public:
+  Impl(std::unique_ptr<std::istream> stream, std::string name)
+      : stream_(std::move(stream)), name_(std::move(name)) {}
+
+  Status ReadHeaderLine() {
+    if (!std::getline(*stream_, text_)) {
+      if (stream_->bad()) return Fail(1, "read error");
+      return Fail(1,
+                  "empty file; line 1 must be the header " +
+                      std::string(kHeaderExample));
+    }
+    line_ = 1;
+    if (IsBlank(text_)) {
+      return Fail(1,
+                  "line 1 is blank; it must be the header " +
+                      std::string(kHeaderExample));
+    }
+    Status status = Parse();
+    if (!status.ok()) return status;
+    return ReadHeader(LineReader(name_, line_, tree_), &header_);
+  }
+
+  Status Next(KeyframeInput* keyframe, bool* end) {
+    *end = false;
+    if (!error_.ok()) return error_;
+    if (finished_) {
+      *end = true;
+      return Status::Ok();
+    }
+    while (true) {
+      if (!std::getline(*stream_, text_)) {
+        if (stream_->bad()) {
+          error_ = Fail(line_ + 1, "read error");
+          return error_;
+        }
+        finished_ = true;
+        *end = true;
+        return Status::Ok();
+      }
+      ++line_;
+      if (!IsBlank(text_)) break;
+    }
+    error_ = Parse();
+    if (!error_.ok()) return error_;
+    error_ = ReadKeyframe(
+        LineReader(name_, line_, tree_), header_, previous_, keyframe);
+    if (!error_.ok()) return error_;
+    previous_.exists = true;
+    previous_.id = keyframe->id;
+    previous_.timestamp = keyframe->timestamp;
+    previous_.line = line_;
+    return Status::Ok();
+  }
+
+  const LogHeader& header() const { return header_; }
+  int line() const { return previous_.line; }
+
+ private:
+  Status Fail(int line, std::string_view what) const {
+    return Status::Error(name_ + ":" + std::to_string(line) + ": " +
+                         std::string(what));
+  }
+
+  Status Parse() {
+    JsonError error;
+    if (io_internal::ParseJson(text_, &tree_, &error)) return Status::Ok();
+    std::string what = "invalid JSON";
+    if (error.column > 0) what += " at column " + std::to_string(error.column);
+    return Fail(line_, what + ": " + error.message);
+  }
+
+  std::unique_ptr<std::istream> stream_;
+  std::string name_;
+  std::string text_;  // the current line
+  JsonTree tree_;
+  LogHeader header_;
+  Previous previous_;
+  int line_ = 0;
+  bool finished_ = false;
+  Status error_;
+};
+
+LogReader::LogReader(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+LogReader::~LogReader() = default;
+
+Status LogReader::Open(const std::string& path,
+                       std::unique_ptr<LogReader>* reader) {
+  auto file = std::make_unique<std::ifstream>(path, std::ios::binary);
+  if (!file->is_open()) return Status::Error(path + ": cannot open");
+  return OpenStream(std::move(file), path, reader);
+}
+
+Status LogReader::OpenStream(std::unique_ptr<std::istream> stream,
+                             const std::string& name,
+                             std::unique_ptr<LogReader>* reader) {
+  reader->reset();
+  auto impl = std::make_unique<Impl>(std::move(stream), name);
+  Status status = impl->ReadHeaderLine();
+  if (!status.ok()) return status;
+  reader->reset(new LogReader(std::move(impl)));
+  return Status::Ok();
+}
+
+const LogHeader& LogReader::header() const { return impl_->header(); }
+
+Status LogReader::Next(KeyframeInput* keyframe, bool* end) {
+  return impl_->Next(keyframe, end);
+}
+
+int LogReader::line() const { return impl_->line(); }
+
+}  // namespace symba

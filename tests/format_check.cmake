@@ -1,3 +1,4 @@
+cmake_minimum_required(VERSION 3.16)
 # Fails when any C++ file of the project is not clang-format clean.
 # Inputs: CLANG_FORMAT, SOURCE_DIR.
 file(GLOB_RECURSE files

@@ -1,3 +1,4 @@
+cmake_minimum_required(VERSION 3.16)
 # Stages an install of the symba build tree, builds the consumer project
 # against it with find_package(symba CONFIG REQUIRED) and runs it.
 # Inputs: SYMBA_BUILD_DIR, CONSUMER_SOURCE_DIR, WORK_DIR, BUILD_TYPE.

@@ -1,0 +1,59 @@
+// The outputs of a replay (log-format.md, "Outputs of a replay"), formatted
+// in memory and written as one directory that appears complete or not at
+// all.
+//
+//   trajectory.tum     timestamp tx ty tz qx qy qz qw   (T_wc, one line per
+//   keyframe) objects.json       {"objects": [{id, class, symmetry, t, axis?,
+//   angles?, poses, observations}]} associations.csv
+//   keyframe,detection,object,symmetry summary.json       counts, timings,
+//   solver statistics, options used
+#ifndef SYMBA_IO_REPLAY_OUTPUT_H_
+#define SYMBA_IO_REPLAY_OUTPUT_H_
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "symba/backend/estimates.h"
+#include "symba/common/status.h"
+#include "symba/io/pose_graph.h"
+#include "symba/replay/replay.h"
+
+namespace symba {
+
+// The shortest decimal text that reads back as the same double.
+std::string FormatDouble(double value);
+
+std::string FormatTumTrajectory(const std::vector<KeyframeEstimate>& keyframes);
+std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects);
+std::string FormatAssociationsCsv(
+    const std::vector<DetectionAssignment>& assignments);
+std::string FormatReplaySummaryJson(const std::string& log_path,
+                                    const ReplayOptions& options,
+                                    const ReplayResult& result);
+
+// The four files of a replay, named as above.
+std::vector<std::pair<std::string, std::string>> ReplayOutputFiles(
+    const std::string& log_path,
+    const ReplayOptions& options,
+    const ReplayResult& result);
+
+// The outputs of replaying a g2o pose graph: trajectory.tum (vertex id as
+// timestamp) and summary.json (initial and final cost, iterations, ...).
+std::vector<std::pair<std::string, std::string>> PoseGraphOutputFiles(
+    const std::string& graph_path,
+    const PoseGraph& graph,
+    const PoseGraphSolveSummary& summary);
+
+// Writes `files` (name, content) into directory `dir` atomically: they are
+// written into a fresh sibling directory which is then renamed onto `dir`
+// (an existing `dir` is moved aside first and removed only after the rename
+// succeeded). On any failure nothing is left behind and an existing `dir` is
+// untouched. The parent of `dir` must exist.
+Status WriteDirectoryAtomically(
+    const std::string& dir,
+    const std::vector<std::pair<std::string, std::string>>& files);
+
+}  // namespace symba
+
+#endif  // SYMBA_IO_REPLAY_OUTPUT_H_

@@ -1,0 +1,47 @@
+// Replay: feed a log v1 through the backend, keyframe by keyframe, as a SLAM
+// system would, and collect what a user reads back (docs/replay.md).
+//
+// Window mode optimises the window after every keyframe; batch mode adds all
+// keyframes (association then uses the initial poses) and solves once.
+#ifndef SYMBA_REPLAY_REPLAY_H_
+#define SYMBA_REPLAY_REPLAY_H_
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "symba/backend/backend.h"
+#include "symba/common/status.h"
+#include "symba/io/log_format.h"
+
+namespace symba {
+
+enum class ReplayMode { kWindow, kBatch };
+const char* ReplayModeName(ReplayMode mode);  // "window", "batch"
+bool ParseReplayMode(const std::string& name, ReplayMode* mode);
+
+struct ReplayOptions {
+  ReplayMode mode = ReplayMode::kWindow;
+  BackendOptions backend;
+  // Called after each keyframe with the number replayed so far (optional).
+  std::function<void(int)> progress;
+};
+
+struct ReplayResult {
+  LogHeader header;
+  std::vector<KeyframeEstimate> keyframes;
+  std::vector<MapObjectEstimate> objects;
+  std::vector<DetectionAssignment> assignments;
+  BackendStatistics statistics;
+  SolveReport last_solve;  // the final window or the batch solve
+  double seconds = 0.0;    // wall time of the whole replay
+};
+
+// Reads `log_path` and replays it. Errors name the file and line.
+Status ReplayLog(const std::string& log_path,
+                 const ReplayOptions& options,
+                 ReplayResult* result);
+
+}  // namespace symba
+
+#endif  // SYMBA_REPLAY_REPLAY_H_

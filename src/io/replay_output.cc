@@ -1,0 +1,256 @@
+#include "symba/io/replay_output.h"
+
+#include <unistd.h>
+
+#include <array>
+#include <atomic>
+#include <charconv>
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+#include <nlohmann/json.hpp>
+
+namespace symba {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+Json Vector(const Eigen::Vector3d& v) {
+  return Json::array({v.x(), v.y(), v.z()});
+}
+
+Json Pose(const Rigid3d& T) {
+  const Eigen::Quaterniond q = T.q.normalized();
+  return Json{{"t", Vector(T.t)},
+              {"q", Json::array({q.x(), q.y(), q.z(), q.w()})}};
+}
+
+// A sibling path of `dir` that no other writer uses.
+fs::path SiblingPath(const fs::path& dir, const char* tag) {
+  static std::atomic<int> counter{0};
+  return dir.parent_path() /
+         ("." + dir.filename().string() + "." + tag + "-" +
+          std::to_string(::getpid()) + "-" + std::to_string(counter++));
+}
+
+Status WriteFile(const fs::path& path, const std::string& content) {
+  std::ofstream out(path, std::ios::binary);
+  out << content;
+  out.close();
+  if (!out) return Status::Error(path.string() + ": cannot write");
+  return Status::Ok();
+}
+
+std::string QuoteCsv(const std::string& field) {
+  if (field.find_first_of(",\"\n\r") == std::string::npos) return field;
+  std::string quoted = "\"";
+  for (char c : field) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
+}  // namespace
+
+std::string FormatDouble(double value) {
+  std::array<char, 32> buffer;
+  const auto result =
+      std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  return std::string(buffer.data(), result.ptr);
+}
+
+std::string FormatTumTrajectory(
+    const std::vector<KeyframeEstimate>& keyframes) {
+  std::string out;
+  for (const KeyframeEstimate& kf : keyframes) {
+    const Eigen::Quaterniond q = kf.T_wc.q.normalized();
+    const double values[8] = {kf.timestamp,
+                              kf.T_wc.t.x(),
+                              kf.T_wc.t.y(),
+                              kf.T_wc.t.z(),
+                              q.x(),
+                              q.y(),
+                              q.z(),
+                              q.w()};
+    for (int i = 0; i < 8; ++i) {
+      if (i > 0) out += ' ';
+      out += FormatDouble(values[i]);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects) {
+  Json list = Json::array();
+  for (const MapObjectEstimate& o : objects) {
+    Json object{{"id", o.id},
+                {"class", o.class_name},
+                {"symmetry", ToString(o.symmetry)},
+                {"t", Vector(o.t_wo)}};
+    if (o.symmetry != SymmetryType::kAsymmetric) {
+      object["axis"] = Vector(o.axis_w);
+    }
+    if (o.symmetry == SymmetryType::kDiscrete) object["angles"] = o.angles;
+    Json poses = Json::array();
+    for (const Rigid3d& pose : o.poses) poses.push_back(Pose(pose));
+    object["poses"] = std::move(poses);
+    object["observations"] = o.observations;
+    list.push_back(std::move(object));
+  }
+  return Json{{"objects", std::move(list)}}.dump(2) + "\n";
+}
+
+std::string FormatAssociationsCsv(
+    const std::vector<DetectionAssignment>& assignments) {
+  std::string out = "keyframe,detection,object,symmetry\n";
+  for (const DetectionAssignment& a : assignments) {
+    out += std::to_string(a.keyframe) + "," + QuoteCsv(a.detection) + "," +
+           std::to_string(a.object) + "," + ToString(a.symmetry) + "\n";
+  }
+  return out;
+}
+
+std::string FormatReplaySummaryJson(const std::string& log_path,
+                                    const ReplayOptions& options,
+                                    const ReplayResult& result) {
+  const BackendOptions& b = options.backend;
+  const BackendStatistics& s = result.statistics;
+  int by_type[3] = {0, 0, 0};
+  for (const MapObjectEstimate& o : result.objects) {
+    ++by_type[static_cast<int>(o.symmetry)];
+  }
+  const double ms_per_keyframe =
+      s.keyframes > 0 ? 1e3 * result.seconds / s.keyframes : 0.0;
+  Json counts{{"keyframes", s.keyframes},
+              {"detections", s.detections},
+              {"objects", s.objects},
+              {"objects_by_symmetry",
+               {{"asymmetric", by_type[0]},
+                {"discrete", by_type[1]},
+                {"continuous", by_type[2]}}},
+              {"points", s.points},
+              {"object_upgrades", s.object_upgrades}};
+  Json timing{{"seconds", result.seconds},
+              {"solve_seconds", s.solve_seconds},
+              {"ms_per_keyframe", ms_per_keyframe}};
+  Json last{{"iterations", result.last_solve.iterations},
+            {"initial_cost", result.last_solve.initial_cost},
+            {"final_cost", result.last_solve.final_cost},
+            {"converged", result.last_solve.converged},
+            {"free_keyframes", result.last_solve.free_keyframes},
+            {"residual_blocks", result.last_solve.residual_blocks}};
+  Json solver{{"solves", s.solves},
+              {"iterations", s.solve_iterations},
+              {"last", std::move(last)}};
+  Json used{{"window", b.window_size},
+            {"max_iterations", b.max_iterations},
+            {"batch_max_iterations", b.batch_max_iterations},
+            {"threads", b.num_threads},
+            {"hypothesis_sigma_t", b.hypothesis_sigma_t},
+            {"hypothesis_sigma_r", b.hypothesis_sigma_r},
+            {"gamma", b.gamma},
+            {"axis_sigma", b.axis_sigma},
+            {"object_loss", LossName(b.object_loss)},
+            {"object_loss_scale", b.object_loss_scale},
+            {"null_hypothesis", b.mixture.use_null_hypothesis},
+            {"frontend_sigma_t", b.frontend_sigma_t},
+            {"frontend_sigma_r", b.frontend_sigma_r},
+            {"point_sigma_px", b.point_sigma_px},
+            {"gate_position", b.gate_position},
+            {"gate_axis", b.gate_axis},
+            {"gate_rotation", b.gate_rotation},
+            {"gate_angle", b.gate_angle}};
+  Json summary{{"log", log_path},
+               {"method", MethodName(b.method)},
+               {"mode", ReplayModeName(options.mode)},
+               {"counts", std::move(counts)},
+               {"timing", std::move(timing)},
+               {"solver", std::move(solver)},
+               {"options", std::move(used)}};
+  return summary.dump(2) + "\n";
+}
+
+std::vector<std::pair<std::string, std::string>> ReplayOutputFiles(
+    const std::string& log_path,
+    const ReplayOptions& options,
+    const ReplayResult& result) {
+  return {{"trajectory.tum", FormatTumTrajectory(result.keyframes)},
+          {"objects.json", FormatObjectsJson(result.objects)},
+          {"associations.csv", FormatAssociationsCsv(result.assignments)},
+          {"summary.json", FormatReplaySummaryJson(log_path, options, result)}};
+}
+
+std::vector<std::pair<std::string, std::string>> PoseGraphOutputFiles(
+    const std::string& graph_path,
+    const PoseGraph& graph,
+    const PoseGraphSolveSummary& summary) {
+  std::vector<KeyframeEstimate> poses;
+  for (const auto& [timestamp, T_w] : PoseGraphTrajectory(graph)) {
+    poses.push_back({static_cast<int64_t>(timestamp), timestamp, T_w});
+  }
+  Json json{{"input", graph_path},
+            {"kind", "g2o pose graph"},
+            {"vertices", summary.num_vertices},
+            {"edges", summary.num_edges},
+            {"initial_cost", summary.initial_cost},
+            {"final_cost", summary.final_cost},
+            {"iterations", summary.iterations},
+            {"converged", summary.converged},
+            {"seconds", summary.seconds},
+            {"message", summary.message}};
+  return {{"trajectory.tum", FormatTumTrajectory(poses)},
+          {"summary.json", json.dump(2) + "\n"}};
+}
+
+Status WriteDirectoryAtomically(
+    const std::string& dir_name,
+    const std::vector<std::pair<std::string, std::string>>& files) {
+  std::error_code error;
+  fs::path dir = fs::path(dir_name);
+  if (dir.filename().empty()) dir = dir.parent_path();  // "out/" -> "out"
+  if (dir.parent_path().empty()) dir = fs::path(".") / dir;
+  if (!fs::is_directory(dir.parent_path(), error)) {
+    return Status::Error(dir_name + ": parent directory " +
+                         dir.parent_path().string() + " does not exist");
+  }
+  if (fs::exists(dir, error) && !fs::is_directory(dir, error)) {
+    return Status::Error(dir_name + ": exists and is not a directory");
+  }
+  const fs::path staging = SiblingPath(dir, "tmp");
+  if (!fs::create_directory(staging, error)) {
+    return Status::Error(dir_name + ": cannot create " + staging.string() +
+                         ": " + error.message());
+  }
+  for (const auto& [name, content] : files) {
+    Status status = WriteFile(staging / name, content);
+    if (!status.ok()) {
+      fs::remove_all(staging, error);
+      return status;
+    }
+  }
+  fs::path old;
+  if (fs::exists(dir, error)) {
+    old = SiblingPath(dir, "old");
+    fs::rename(dir, old, error);
+    if (error) {
+      const std::string message = error.message();
+      fs::remove_all(staging, error);
+      return Status::Error(dir_name + ": cannot replace: " + message);
+    }
+  }
+  fs::rename(staging, dir, error);
+  if (error) {
+    const std::string message = error.message();
+    if (!old.empty()) fs::rename(old, dir, error);
+    fs::remove_all(staging, error);
+    return Status::Error(dir_name + ": cannot rename into place: " + message);
+  }
+  if (!old.empty()) fs::remove_all(old, error);
+  return Status::Ok();
+}
+
+}  // namespace symba

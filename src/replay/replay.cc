@@ -1,0 +1,72 @@
+#include "symba/replay/replay.h"
+
+#include <chrono>
+#include <memory>
+#include <string>
+
+namespace symba {
+
+const char* ReplayModeName(ReplayMode mode) {
+  return mode == ReplayMode::kBatch ? "batch" : "window";
+}
+
+bool ParseReplayMode(const std::string& name, ReplayMode* mode) {
+  if (name == "window") {
+    *mode = ReplayMode::kWindow;
+  } else if (name == "batch") {
+    *mode = ReplayMode::kBatch;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+Status ReplayLog(const std::string& log_path,
+                 const ReplayOptions& options,
+                 ReplayResult* result) {
+  const auto start = std::chrono::steady_clock::now();
+  std::unique_ptr<LogReader> reader;
+  Status status = LogReader::Open(log_path, &reader);
+  if (!status.ok()) return status;
+  std::unique_ptr<Backend> backend;
+  status = Backend::Create(options.backend,
+                           reader->header().camera,
+                           reader->header().classes,
+                           &backend);
+  if (!status.ok()) return Status::Error("options: " + status.message());
+
+  ReplayResult replay;
+  replay.header = reader->header();
+  int count = 0;
+  KeyframeInput keyframe;
+  for (;;) {
+    bool end = false;
+    status = reader->Next(&keyframe, &end);
+    if (!status.ok()) return status;
+    if (end) break;
+    const std::string where = log_path + ":" + std::to_string(reader->line());
+    status = backend->AddKeyframe(keyframe);
+    if (!status.ok()) return Status::Error(where + ": " + status.message());
+    if (options.mode == ReplayMode::kWindow) {
+      status = backend->OptimizeWindow(&replay.last_solve);
+      if (!status.ok()) return Status::Error(where + ": " + status.message());
+    }
+    ++count;
+    if (options.progress) options.progress(count);
+  }
+  if (options.mode == ReplayMode::kBatch && count > 0) {
+    status = backend->OptimizeBatch(&replay.last_solve);
+    if (!status.ok()) return Status::Error(log_path + ": " + status.message());
+  }
+  replay.keyframes = backend->Keyframes();
+  replay.objects = backend->Objects();
+  replay.assignments = backend->Assignments();
+  replay.statistics = backend->Statistics();
+  replay.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
+  *result = std::move(replay);
+  return Status::Ok();
+}
+
+}  // namespace symba

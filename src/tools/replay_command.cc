@@ -1,0 +1,194 @@
+// `symba replay`: replays a log v1 through the backend and writes the four
+// output files atomically (docs/replay.md).
+#include <unistd.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "symba/geometry/angle.h"
+#include "symba/io/replay_output.h"
+#include "symba/replay/replay.h"
+#include "tools/commands.h"
+
+namespace {
+
+constexpr double kDeg = symba::kPi / 180.0;
+
+// Flags of `symba replay`, bound to their defaults.
+struct ReplayFlags {
+  std::string log;
+  std::string out;
+  std::string method = "symba";
+  std::string mode = "window";
+  std::string loss;
+  bool quiet = false;
+  double gate_axis_deg = 0.0;
+  double gate_rotation_deg = 0.0;
+  double gate_angle_deg = 0.0;
+  symba::BackendOptions backend;
+
+  ReplayFlags() {
+    loss = symba::LossName(backend.object_loss);
+    gate_axis_deg = backend.gate_axis / kDeg;
+    gate_rotation_deg = backend.gate_rotation / kDeg;
+    gate_angle_deg = backend.gate_angle / kDeg;
+  }
+};
+
+CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
+  CLI::App* cmd = app->add_subcommand(
+      "replay",
+      "Replay a log v1 (or optimise a .g2o pose graph) and write "
+      "trajectory.tum, objects.json, associations.csv and summary.json");
+  symba::BackendOptions& b = f->backend;
+  cmd->add_option(
+         "LOG", f->log, "log v1 file (JSON Lines), or a .g2o 3-D pose graph")
+      ->required();
+  cmd->add_option("--out",
+                  f->out,
+                  "output directory (replaced atomically, parent must exist)")
+      ->required();
+  cmd->add_option("--method", f->method, "symba, mh or sh")
+      ->check(CLI::IsMember({"symba", "mh", "sh"}))
+      ->capture_default_str();
+  cmd->add_option("--mode",
+                  f->mode,
+                  "window: optimise the window after each keyframe; batch: "
+                  "one solve at the end")
+      ->check(CLI::IsMember({"window", "batch"}))
+      ->capture_default_str();
+  cmd->add_option("--window", b.window_size, "keyframes free in a window")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--threads", b.num_threads, "Ceres threads")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option(
+         "--max-iterations", b.max_iterations, "solver iterations per window")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--batch-max-iterations",
+                  b.batch_max_iterations,
+                  "solver iterations of a batch solve")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option(
+         "--hypothesis-sigma-t",
+         b.hypothesis_sigma_t,
+         "hypothesis translation noise when a detection gives none (m)")
+      ->capture_default_str();
+  cmd->add_option("--hypothesis-sigma-r",
+                  b.hypothesis_sigma_r,
+                  "hypothesis rotation noise when a detection gives none (rad)")
+      ->capture_default_str();
+  cmd->add_option("--gamma", b.gamma, "weight of the continuous axis term")
+      ->capture_default_str();
+  cmd->add_option("--axis-sigma", b.axis_sigma, "measured axis noise (rad)")
+      ->capture_default_str();
+  cmd->add_option("--loss", f->loss, "robust loss on object edges")
+      ->check(CLI::IsMember({"none", "huber", "cauchy"}))
+      ->capture_default_str();
+  cmd->add_option("--loss-scale",
+                  b.object_loss_scale,
+                  "object loss scale (whitened units)")
+      ->capture_default_str();
+  cmd->add_flag("--null-hypothesis",
+                b.mixture.use_null_hypothesis,
+                "add a null-hypothesis component to every mixture");
+  cmd->add_option("--frontend-sigma-t",
+                  b.frontend_sigma_t,
+                  "front-end relative motion noise (m)")
+      ->capture_default_str();
+  cmd->add_option("--frontend-sigma-r",
+                  b.frontend_sigma_r,
+                  "front-end relative motion noise (rad)")
+      ->capture_default_str();
+  cmd->add_option(
+         "--point-sigma", b.point_sigma_px, "reprojection noise (pixels)")
+      ->capture_default_str();
+  cmd->add_option(
+         "--gate-position", b.gate_position, "association gate on position (m)")
+      ->capture_default_str();
+  cmd->add_option("--gate-axis",
+                  f->gate_axis_deg,
+                  "association gate on the axis (degrees)")
+      ->capture_default_str();
+  cmd->add_option("--gate-rotation",
+                  f->gate_rotation_deg,
+                  "6-DoF association gate on rotation (degrees)")
+      ->capture_default_str();
+  cmd->add_option("--gate-angle",
+                  f->gate_angle_deg,
+                  "discrete angle association gate (degrees)")
+      ->capture_default_str();
+  cmd->add_flag("--quiet", f->quiet, "no progress on stderr");
+  return cmd;
+}
+
+bool EndsWith(const std::string& text, const std::string& suffix) {
+  return text.size() >= suffix.size() &&
+         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// A .g2o file is a pose graph: optimise it and write trajectory.tum and
+// summary.json.
+int RunPoseGraphReplay(const ReplayFlags& f) {
+  symba::PoseGraph graph;
+  symba::PoseGraphSolveSummary summary;
+  symba::PoseGraphSolveOptions options;
+  options.num_threads = f.backend.num_threads;
+  symba::Status status = symba::ReadG2oPoseGraph(f.log, &graph);
+  if (status.ok()) status = symba::OptimizePoseGraph(options, &graph, &summary);
+  if (status.ok()) {
+    status = symba::WriteDirectoryAtomically(
+        f.out, symba::PoseGraphOutputFiles(f.log, graph, summary));
+  }
+  if (!status.ok()) {
+    std::fprintf(stderr, "symba replay: %s\n", status.message().c_str());
+    return 1;
+  }
+  return 0;
+}
+
+int RunReplay(const ReplayFlags& f) {
+  if (EndsWith(f.log, ".g2o")) return RunPoseGraphReplay(f);
+  symba::ReplayOptions options;
+  options.backend = f.backend;
+  symba::ParseMethod(f.method, &options.backend.method);
+  symba::ParseReplayMode(f.mode, &options.mode);
+  symba::ParseLoss(f.loss, &options.backend.object_loss);
+  options.backend.gate_axis = f.gate_axis_deg * kDeg;
+  options.backend.gate_rotation = f.gate_rotation_deg * kDeg;
+  options.backend.gate_angle = f.gate_angle_deg * kDeg;
+  const bool show_progress = !f.quiet && ::isatty(STDERR_FILENO);
+  if (show_progress) {
+    options.progress = [](int keyframes) {
+      if (keyframes % 10 == 0) {
+        std::fprintf(stderr, "\rsymba replay: %d keyframes", keyframes);
+      }
+    };
+  }
+  symba::ReplayResult result;
+  symba::Status status = symba::ReplayLog(f.log, options, &result);
+  if (show_progress) std::fprintf(stderr, "\n");
+  if (status.ok()) {
+    status = symba::WriteDirectoryAtomically(
+        f.out, symba::ReplayOutputFiles(f.log, options, result));
+  }
+  if (!status.ok()) {
+    std::fprintf(stderr, "symba replay: %s\n", status.message().c_str());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+void RegisterReplayCommand(CLI::App* app, int* exit_code) {
+  auto flags = std::make_shared<ReplayFlags>();
+  CLI::App* command = AddReplayOptions(app, flags.get());
+  command->callback([flags, exit_code] { *exit_code = RunReplay(*flags); });
+}

@@ -1,0 +1,200 @@
+#include "symba/io/replay_output.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace symba {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string ReadFile(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A fresh empty directory under the system temp dir, removed afterwards.
+class TempDir {
+ public:
+  TempDir() {
+    path_ =
+        fs::temp_directory_path() /
+        ("symba_replay_output_test_" +
+         std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+         "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  const fs::path& path() const { return path_; }
+  // Names in the directory (to check nothing stray was left behind).
+  std::vector<std::string> Entries() const {
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(path_)) {
+      names.push_back(entry.path().filename().string());
+    }
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+ private:
+  fs::path path_;
+};
+
+TEST(ReplayOutputTest, FormatDoubleRoundTripsAndIsShort) {
+  EXPECT_EQ(FormatDouble(0.1), "0.1");
+  EXPECT_EQ(FormatDouble(-2.0), "-2");
+  const double third = 1.0 / 3.0;
+  EXPECT_EQ(std::stod(FormatDouble(third)), third);
+}
+
+TEST(ReplayOutputTest, TumTrajectoryLineIsTimestampTranslationQuaternionXyzw) {
+  KeyframeEstimate kf;
+  kf.id = 3;
+  kf.timestamp = 1.5;
+  kf.T_wc = Rigid3d(Eigen::Quaterniond(0.5, 0.5, 0.5, 0.5),  // w, x, y, z
+                    Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(FormatTumTrajectory({kf}), "1.5 1 2 3 0.5 0.5 0.5 0.5\n");
+  kf.T_wc.q = Eigen::Quaterniond(1, 0, 0, 0);
+  EXPECT_EQ(FormatTumTrajectory({kf}), "1.5 1 2 3 0 0 0 1\n");
+}
+
+TEST(ReplayOutputTest, ObjectsJsonHasAxisAndAnglesOnlyWhereTheyApply) {
+  MapObjectEstimate chair;
+  chair.id = 0;
+  chair.class_name = "chair";
+  chair.symmetry = SymmetryType::kAsymmetric;
+  chair.t_wo = Eigen::Vector3d(1, 0, 0);
+  chair.poses = {Rigid3d(Eigen::Quaterniond::Identity(), chair.t_wo)};
+  chair.observations = 4;
+  MapObjectEstimate table;
+  table.id = 1;
+  table.class_name = "table";
+  table.symmetry = SymmetryType::kDiscrete;
+  table.t_wo = Eigen::Vector3d(0, 1, 0);
+  table.axis_w = Eigen::Vector3d(0, 0, 1);
+  table.angles = {0.0, 3.0};
+  table.poses = {Rigid3d(Eigen::Quaterniond::Identity(), table.t_wo),
+                 Rigid3d(Eigen::Quaterniond::Identity(), table.t_wo)};
+  table.observations = 2;
+  const std::string json = FormatObjectsJson({chair, table});
+  EXPECT_EQ(
+      json,
+      "{\n"
+      "  \"objects\": [\n"
+      "    {\n"
+      "      \"id\": 0,\n"
+      "      \"class\": \"chair\",\n"
+      "      \"symmetry\": \"asymmetric\",\n"
+      "      \"t\": [\n        1.0,\n        0.0,\n        0.0\n      ],\n"
+      "      \"poses\": [\n"
+      "        {\n"
+      "          \"t\": [\n            1.0,\n            0.0,\n            "
+      "0.0\n"
+      "          ],\n"
+      "          \"q\": [\n            0.0,\n            0.0,\n            "
+      "0.0,\n"
+      "            1.0\n          ]\n"
+      "        }\n"
+      "      ],\n"
+      "      \"observations\": 4\n"
+      "    },\n"
+      "    {\n"
+      "      \"id\": 1,\n"
+      "      \"class\": \"table\",\n"
+      "      \"symmetry\": \"discrete\",\n"
+      "      \"t\": [\n        0.0,\n        1.0,\n        0.0\n      ],\n"
+      "      \"axis\": [\n        0.0,\n        0.0,\n        1.0\n      ],\n"
+      "      \"angles\": [\n        0.0,\n        3.0\n      ],\n"
+      "      \"poses\": [\n"
+      "        {\n"
+      "          \"t\": [\n            0.0,\n            1.0,\n            "
+      "0.0\n"
+      "          ],\n"
+      "          \"q\": [\n            0.0,\n            0.0,\n            "
+      "0.0,\n"
+      "            1.0\n          ]\n"
+      "        },\n"
+      "        {\n"
+      "          \"t\": [\n            0.0,\n            1.0,\n            "
+      "0.0\n"
+      "          ],\n"
+      "          \"q\": [\n            0.0,\n            0.0,\n            "
+      "0.0,\n"
+      "            1.0\n          ]\n"
+      "        }\n"
+      "      ],\n"
+      "      \"observations\": 2\n"
+      "    }\n"
+      "  ]\n"
+      "}\n");
+}
+
+TEST(ReplayOutputTest, AssociationsCsvQuotesIdsThatNeedIt) {
+  const std::string csv =
+      FormatAssociationsCsv({{17, "17/0", 2, SymmetryType::kDiscrete},
+                             {18, "a,\"b\"", 0, SymmetryType::kContinuous}});
+  EXPECT_EQ(csv,
+            "keyframe,detection,object,symmetry\n"
+            "17,17/0,2,discrete\n"
+            "18,\"a,\"\"b\"\"\",0,continuous\n");
+}
+
+TEST(ReplayOutputTest, AtomicWriteCreatesTheDirectoryWithEveryFile) {
+  TempDir temp;
+  const fs::path out = temp.path() / "out";
+  ASSERT_TRUE(
+      WriteDirectoryAtomically(out.string(), {{"a.txt", "A"}, {"b.txt", "B"}})
+          .ok());
+  EXPECT_EQ(ReadFile(out / "a.txt"), "A");
+  EXPECT_EQ(ReadFile(out / "b.txt"), "B");
+  EXPECT_EQ(temp.Entries(), std::vector<std::string>{"out"});
+}
+
+TEST(ReplayOutputTest, AtomicWriteReplacesAnExistingDirectoryWhole) {
+  TempDir temp;
+  const fs::path out = temp.path() / "out";
+  ASSERT_TRUE(WriteDirectoryAtomically(out.string(),
+                                       {{"a.txt", "old"}, {"stale.txt", "x"}})
+                  .ok());
+  ASSERT_TRUE(WriteDirectoryAtomically(out.string(), {{"a.txt", "new"}}).ok());
+  EXPECT_EQ(ReadFile(out / "a.txt"), "new");
+  EXPECT_FALSE(fs::exists(out / "stale.txt"));
+  EXPECT_EQ(temp.Entries(), std::vector<std::string>{"out"});
+}
+
+TEST(ReplayOutputTest, AFailedWriteLeavesTheExistingOutputUntouched) {
+  TempDir temp;
+  const fs::path out = temp.path() / "out";
+  ASSERT_TRUE(WriteDirectoryAtomically(out.string(), {{"a.txt", "old"}}).ok());
+  // The second file cannot be written (its directory does not exist).
+  const Status status = WriteDirectoryAtomically(
+      out.string(), {{"a.txt", "new"}, {"no/such.txt", "x"}});
+  EXPECT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("cannot write"), std::string::npos)
+      << status.message();
+  EXPECT_EQ(ReadFile(out / "a.txt"), "old");
+  EXPECT_EQ(temp.Entries(), std::vector<std::string>{"out"});
+}
+
+TEST(ReplayOutputTest, AMissingParentIsAnErrorAndCreatesNothing) {
+  TempDir temp;
+  const fs::path out = temp.path() / "missing" / "out";
+  const Status status =
+      WriteDirectoryAtomically(out.string(), {{"a.txt", "A"}});
+  EXPECT_FALSE(status.ok());
+  EXPECT_EQ(status.message(),
+            out.string() + ": parent directory " +
+                (temp.path() / "missing").string() + " does not exist");
+  EXPECT_TRUE(temp.Entries().empty());
+}
+
+}  // namespace
+}  // namespace symba

@@ -15,6 +15,11 @@
 // null hypothesis. The paper's sign t_wc - t_wo is a typo: the object's
 // position in the camera is R_wc^T (t_wo - t_wc).
 //
+// ContinuousModel::ComponentFunctor is the component residual as a template
+// (the definition); the winner is evaluated by ContinuousComponentCost, the
+// same residual with a hand-written Jacobian (a test checks it against
+// autodiff of the functor).
+//
 // Parameter blocks, in order:
 //   q_wc  4  camera rotation, Eigen order [x, y, z, w]
 //   t_wc  3  camera position (m)
@@ -29,13 +34,16 @@
 #include <utility>
 #include <vector>
 
-#include <ceres/autodiff_cost_function.h>
+#include <ceres/sized_cost_function.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
 #include "symba/common/status.h"
 #include "symba/factors/max_mixture.h"
 #include "symba/factors/pose_component.h"
+#include "symba/factors/quaternion_jacobians.h"
+#include "symba/geometry/angle.h"
+#include "symba/geometry/so3.h"
 #include "symba/geometry/sphere_log.h"
 #include "symba/geometry/tangent_basis.h"
 
@@ -54,6 +62,130 @@ struct AxisMeasurement {
   Eigen::Vector3d a_c = Eigen::Vector3d::UnitZ();  // unit, camera frame
   Eigen::Matrix2d sqrt_info = Eigen::Matrix2d::Identity();  // 1/rad
   double gamma = 1.0;  // the paper's balance weight (>= 0)
+};
+
+// The tangent coordinates SphereLog(x, B, y) of sphere_log.h and their
+// Jacobian with respect to y, branch by branch as SphereLog evaluates them.
+// With w = B^T y, c = x.y, s^2 = |w|^2 and out = f w:
+//   d out/dy = w (df/dc x + 2 df/d(s^2) B w)^T + f B^T
+//   series (c > 0, s^2 < eps c^2): f = (1 - s^2/(3c^2)) / c,
+//     df/dc = 2 s^2/(3 c^4) - (1 - s^2/(3c^2)) / c^2,  df/d(s^2) = -1/(3c^3)
+//   s^2 = 0 otherwise: out = (pi, 0), Jacobian 0
+//   else: f = atan2(s, c) / s,
+//     df/dc = -1/(s^2 + c^2),
+//     df/d(s^2) = (c / (s^2 + c^2) - f) / (2 s^2)
+inline Eigen::Vector2d SphereLogWithJacobian(
+    const Eigen::Vector3d& x,
+    const Eigen::Matrix<double, 3, 2>& basis_at_x,
+    const Eigen::Vector3d& y,
+    Eigen::Matrix<double, 2, 3>* d_out_dy) {
+  const Eigen::Vector2d w = basis_at_x.transpose() * y;
+  const double c = x.dot(y);
+  const double s_sq = w.squaredNorm();
+  double f;
+  double df_dc;
+  double df_ds_sq;
+  if (c > 0.0 && s_sq < kSmallAngleSquared * c * c) {
+    const double c_sq = c * c;
+    const double g = 1.0 - s_sq / (3.0 * c_sq);
+    f = g / c;
+    df_dc = 2.0 * s_sq / (3.0 * c_sq * c_sq) - g / c_sq;
+    df_ds_sq = -1.0 / (3.0 * c_sq * c);
+  } else if (s_sq <= 0.0) {
+    if (d_out_dy != nullptr) d_out_dy->setZero();
+    return Eigen::Vector2d(kPi, 0.0);
+  } else {
+    const double s = std::sqrt(s_sq);
+    const double r_sq = s_sq + c * c;
+    f = std::atan2(s, c) / s;
+    df_dc = -1.0 / r_sq;
+    df_ds_sq = (c / r_sq - f) / (2.0 * s_sq);
+  }
+  if (d_out_dy != nullptr) {
+    const Eigen::Vector3d df_dy =
+        df_dc * x + (2.0 * df_ds_sq) * (basis_at_x * w);
+    *d_out_dy = w * df_dy.transpose() + f * basis_at_x.transpose();
+  }
+  return f * w;
+}
+
+// The continuous edge's component residual (ContinuousModel::ComponentFunctor)
+// with a hand-written Jacobian. With d = t_wo - t_wc, p = conj(q_wc) * d and
+// y = conj(q_wc) * a_w (quaternion_jacobians.h, M = dp/dd = dy/da_w):
+//   r_t = L_t (t_co - p)                     r_a = G SphereLog(a_c, B, y)
+//   dr_t/dq_wc = -L_t dp/dq                  dr_a/dq_wc = G S dy/dq
+//   dr_t/dt_wc =  L_t M                      dr_a/dt_wc = 0
+//   dr_t/dt_wo = -L_t M                      dr_a/dt_wo = 0
+//   dr_t/da_w  =  0                          dr_a/da_w  = G S M
+// with G = gamma L_a and S = dSphereLog/dy (SphereLogWithJacobian).
+class ContinuousComponentCost final
+    : public ceres::SizedCostFunction<5, 4, 3, 3, 3> {
+ public:
+  ContinuousComponentCost(const TranslationComponent& component,
+                          const AxisMeasurement& axis,
+                          const Eigen::Matrix<double, 3, 2>& basis_at_a_c)
+      : sqrt_info_t_(component.sqrt_info),
+        t_co_(component.t_co),
+        sqrt_info_a_(axis.gamma * axis.sqrt_info),
+        a_c_(axis.a_c),
+        basis_at_a_c_(basis_at_a_c) {}
+
+  bool Evaluate(double const* const* parameters,
+                double* residuals,
+                double** jacobians) const override {
+    const double* q_wc = parameters[0];
+    const Eigen::Map<const Eigen::Vector3d> t_wc(parameters[1]);
+    const Eigen::Map<const Eigen::Vector3d> t_wo(parameters[2]);
+    const Eigen::Map<const Eigen::Vector3d> a_w(parameters[3]);
+    const bool want_q = jacobians != nullptr && jacobians[0] != nullptr;
+    Matrix34d dp_dq;
+    Matrix34d dy_dq;
+    const Eigen::Vector3d p =
+        RotateByConjugate(q_wc, t_wo - t_wc, want_q ? &dp_dq : nullptr);
+    const Eigen::Vector3d y =
+        RotateByConjugate(q_wc, a_w, want_q ? &dy_dq : nullptr);
+    Eigen::Matrix<double, 2, 3> dlog_dy;
+    const Eigen::Vector2d log = SphereLogWithJacobian(
+        a_c_, basis_at_a_c_, y, jacobians != nullptr ? &dlog_dy : nullptr);
+    Eigen::Map<Eigen::Matrix<double, 5, 1>> r(residuals);
+    r.head<3>() = sqrt_info_t_ * (t_co_ - p);
+    r.tail<2>() = sqrt_info_a_ * log;
+    if (jacobians == nullptr) return true;
+
+    const Eigen::Matrix<double, 2, 3> axis_rows = sqrt_info_a_ * dlog_dy;
+    const Eigen::Matrix3d M = RotateByConjugateVectorJacobian(q_wc);
+    if (want_q) {
+      Eigen::Map<Eigen::Matrix<double, 5, 4, Eigen::RowMajor>> J(jacobians[0]);
+      J.topRows<3>() = -sqrt_info_t_ * dp_dq;
+      J.bottomRows<2>() = axis_rows * dy_dq;
+    }
+    const bool want_t = jacobians[1] != nullptr || jacobians[2] != nullptr;
+    const Eigen::Matrix3d translation_rows =
+        want_t ? Eigen::Matrix3d(sqrt_info_t_ * M) : Eigen::Matrix3d::Zero();
+    if (jacobians[1] != nullptr) {
+      Eigen::Map<Eigen::Matrix<double, 5, 3, Eigen::RowMajor>> J(jacobians[1]);
+      J.topRows<3>() = translation_rows;
+      J.bottomRows<2>().setZero();
+    }
+    if (jacobians[2] != nullptr) {
+      Eigen::Map<Eigen::Matrix<double, 5, 3, Eigen::RowMajor>> J(jacobians[2]);
+      J.topRows<3>() = -translation_rows;
+      J.bottomRows<2>().setZero();
+    }
+    if (jacobians[3] != nullptr) {
+      Eigen::Map<Eigen::Matrix<double, 5, 3, Eigen::RowMajor>> J(jacobians[3]);
+      J.topRows<3>().setZero();
+      J.bottomRows<2>() = axis_rows * M;
+    }
+    return true;
+  }
+
+ private:
+  Eigen::Matrix3d sqrt_info_t_;
+  Eigen::Vector3d t_co_;
+  Eigen::Matrix2d sqrt_info_a_;  // gamma L_a
+  Eigen::Vector3d a_c_;
+  Eigen::Matrix<double, 3, 2> basis_at_a_c_;
 };
 
 class ContinuousModel {
@@ -99,9 +231,7 @@ class ContinuousModel {
       log_det_sqrt_info_.push_back(
           std::log(std::abs(c.sqrt_info.determinant())));
       component_costs_.push_back(
-          std::make_unique<
-              ceres::AutoDiffCostFunction<ComponentFunctor, 5, 4, 3, 3, 3>>(
-              new ComponentFunctor{c, axis_, basis}));
+          std::make_unique<ContinuousComponentCost>(c, axis_, basis));
     }
   }
 
@@ -121,6 +251,7 @@ class ContinuousModel {
     return (components_[j].sqrt_info * (components_[j].t_co - t_co_pred))
         .squaredNorm();
   }
+  // Component j's residual with hand-written Jacobians.
   const ceres::CostFunction& Component(int j) const {
     return *component_costs_[j];
   }
@@ -129,7 +260,7 @@ class ContinuousModel {
   std::vector<TranslationComponent> components_;
   AxisMeasurement axis_;
   std::vector<double> log_det_sqrt_info_;
-  std::vector<std::unique_ptr<ceres::CostFunction>> component_costs_;
+  std::vector<std::unique_ptr<ContinuousComponentCost>> component_costs_;
 };
 
 using ContinuousObjectEdge =

@@ -6,12 +6,14 @@
 #include <CLI/CLI.hpp>
 
 void RegisterReplayCommand(CLI::App* app, int* exit_code);
+void RegisterSimulateCommand(CLI::App* app, int* exit_code);
 
 namespace symba::tools {
 
 // Registers every command (add new ones here).
 inline void RegisterCommands(CLI::App* app, int* exit_code) {
   RegisterReplayCommand(app, exit_code);
+  RegisterSimulateCommand(app, exit_code);
 }
 
 }  // namespace symba::tools

@@ -1,0 +1,685 @@
+// Acceptance tests of the backend (project issue 4) on scripted sequences
+// (tests/test_support/scripted_sequence.h): a camera orbits symmetric
+// objects; the front end is accurate on the feature-rich half of the orbit
+// and drifts in yaw on the featureless half. symba must keep one map object
+// per real object and pull the trajectory back; the baselines (sh, mh), which
+// associate by the full 6-DoF pose, fragment when the detector's modes flip.
+//
+// Where the position tolerances come from (measured over seeds 1-8 of these
+// sequences with the default BackendOptions, RelWithDebInfo):
+//   - rich half: reprojections carry no scale (a point's depth only
+//     initialises it) and the front end's relative motion enters with the
+//     default 5 cm / 0.02 rad although it is accurate to 0.5 cm here, so
+//     even without any object the rich half alone drifts to 0.06-0.15 m RMSE
+//     (max up to 0.22 m) over its 20 keyframes;
+//   - featureless half: one detection fixes the camera in the object frame
+//     to about |t_co| * sigma_r / 2 = 2.8 m * 3 deg / 2 = 7 cm per axis (the
+//     SE(3) logarithm of Eq. 14 halves the lever arm), on top of the error of
+//     the object itself, which inherits the rich half's drift.
+// symba then reaches 0.06-0.15 m RMSE and 0.12-0.29 m max; the tests allow
+// RMSE < 0.18 m and max < 0.35 m, against a front end at about 0.5 m RMSE
+// and 1.4 m max (asserted too, so the test cannot pass by a tame sequence).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "symba/backend/backend.h"
+#include "symba/geometry/angle.h"
+#include "symba/geometry/so3.h"
+#include "test_support/scripted_sequence.h"
+
+namespace symba {
+namespace {
+
+using testing::GenerateScriptedSequence;
+using ::testing::HasSubstr;
+using testing::kDegree;
+using testing::ScriptedObject;
+using testing::ScriptedSequence;
+using testing::ScriptedSequenceSpec;
+
+constexpr double kRmseTolerance = 0.18;            // m, see the top
+constexpr double kMaxErrorTolerance = 0.35;        // m
+constexpr double kFrontendMinRmse = 0.35;          // m: the drift is real
+constexpr double kObjectPositionTolerance = 0.15;  // m: the rich half's drift
+// Axis and mode rotations: each is averaged over tens of detections of 3 deg
+// noise per axis, but carries the camera rotation error of the views that
+// fixed it (about 1 deg on the rich half); 5 deg is well clear of both and
+// well below the 120 / 90 deg between modes.
+constexpr double kAxisTolerance = 5.0 * kDegree;
+constexpr double kModeTolerance = 8.0 * kDegree;
+
+struct PositionError {
+  double rmse = 0.0;
+  double max = 0.0;
+};
+
+PositionError Positions(const std::vector<Rigid3d>& truth,
+                        const std::vector<Rigid3d>& estimate) {
+  PositionError e;
+  for (size_t k = 0; k < truth.size(); ++k) {
+    const double d = (truth[k].t - estimate[k].t).norm();
+    e.rmse += d * d;
+    e.max = std::max(e.max, d);
+  }
+  e.rmse = std::sqrt(e.rmse / static_cast<double>(truth.size()));
+  return e;
+}
+
+std::vector<Rigid3d> EstimatedPoses(const Backend& backend) {
+  std::vector<Rigid3d> poses;
+  for (const KeyframeEstimate& kf : backend.Keyframes()) {
+    poses.push_back(kf.T_wc);
+  }
+  return poses;
+}
+
+std::vector<Rigid3d> FrontendPoses(const ScriptedSequence& seq) {
+  std::vector<Rigid3d> poses;
+  for (const KeyframeInput& kf : seq.keyframes) poses.push_back(*kf.T_wc);
+  return poses;
+}
+
+// Feeds the sequence keyframe by keyframe, with a window solve after each
+// (as a SLAM system runs it).
+void RunSequence(const ScriptedSequence& seq,
+                 const BackendOptions& options,
+                 std::unique_ptr<Backend>* backend) {
+  Status status = Backend::Create(options, seq.intrinsics, {}, backend);
+  ASSERT_TRUE(status.ok()) << status.message();
+  for (const KeyframeInput& kf : seq.keyframes) {
+    status = (*backend)->AddKeyframe(kf);
+    ASSERT_TRUE(status.ok()) << status.message();
+    status = (*backend)->OptimizeWindow();
+    ASSERT_TRUE(status.ok()) << status.message();
+  }
+}
+
+// Angle between two axes up to sign.
+double AxisAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized()))));
+}
+
+Eigen::Quaterniond Rot(const Eigen::Vector3d& axis, double angle) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
+}
+
+// The scene of tests 1 and 2: one object at the centre, seen in a loop of
+// 40 keyframes; each view of a discrete object shows a random subset of its
+// modes (one mode: read as asymmetric) and the highest-weight hypothesis
+// belongs to a random visible mode. The detector reports its rotation noise
+// (3 deg per axis, about 5 deg in all: sigma_r = 0.05 rad).
+ScriptedSequenceSpec OrbitSpec(const ScriptedObject& object) {
+  ScriptedSequenceSpec spec;
+  spec.objects = {object};
+  spec.min_visible_modes = 1;
+  spec.max_visible_modes = object.order;
+  spec.detection_sigma_r = 0.05;
+  spec.seed = 1;
+  return spec;
+}
+
+ScriptedObject Table(SymmetryType symmetry, int order) {
+  ScriptedObject table;
+  table.class_name = "table";
+  table.symmetry = symmetry;
+  table.order = order;
+  table.axis_o = Eigen::Vector3d::UnitZ();
+  table.T_wo = Rigid3d(Rot(Eigen::Vector3d::UnitZ(), 0.3),
+                       Eigen::Vector3d(0.1, -0.05, 0.0));
+  return table;
+}
+
+// symba: one map object of the right type whose axis, position and (for a
+// discrete object) every mode match the truth, and the keyframes within the
+// tolerances. sh and mh: more than one map object for the one table.
+void ExpectSymbaTracksBaselinesFragment(const ScriptedSequenceSpec& spec,
+                                        const char* name) {
+  const ScriptedSequence seq = GenerateScriptedSequence(spec);
+  const ScriptedObject& truth = spec.objects.front();
+  const PositionError frontend = Positions(seq.T_wc_true, FrontendPoses(seq));
+  EXPECT_GT(frontend.rmse, kFrontendMinRmse);
+
+  std::map<Method, size_t> num_objects;
+  for (Method method :
+       {Method::kSymba, Method::kMultiHypothesis, Method::kSingleHypothesis}) {
+    SCOPED_TRACE(MethodName(method));
+    BackendOptions options;
+    options.method = method;
+    std::unique_ptr<Backend> backend;
+    ASSERT_NO_FATAL_FAILURE(RunSequence(seq, options, &backend));
+    const std::vector<MapObjectEstimate> objects = backend->Objects();
+    num_objects[method] = objects.size();
+    const PositionError error =
+        Positions(seq.T_wc_true, EstimatedPoses(*backend));
+    std::printf(
+        "[ %s ] %-5s objects %zu, keyframe RMSE %.3f m, max %.3f m "
+        "(front end %.3f / %.3f)\n",
+        name,
+        MethodName(method),
+        objects.size(),
+        error.rmse,
+        error.max,
+        frontend.rmse,
+        frontend.max);
+    if (method != Method::kSymba) {
+      EXPECT_GT(objects.size(), 1u);
+      continue;
+    }
+    ASSERT_EQ(objects.size(), 1u);
+    const MapObjectEstimate& object = objects.front();
+    EXPECT_EQ(object.symmetry, truth.symmetry);
+    EXPECT_EQ(object.observations,
+              static_cast<int>(backend->Assignments().size()));
+    EXPECT_LT((object.t_wo - truth.T_wo.t).norm(), kObjectPositionTolerance);
+    EXPECT_LT(AxisAngle(object.axis_w, truth.T_wo.q * truth.axis_o),
+              kAxisTolerance);
+    if (truth.symmetry == SymmetryType::kDiscrete) {
+      // One angle per mode, each near a distinct true mode.
+      EXPECT_EQ(static_cast<int>(object.angles.size()), truth.order);
+      std::set<int> modes;
+      for (const Rigid3d& pose : object.poses) {
+        for (int m = 0; m < truth.order; ++m) {
+          const Eigen::Quaterniond R_wo_m =
+              truth.T_wo.q * Rot(truth.axis_o, kTwoPi * m / truth.order);
+          if (pose.q.angularDistance(R_wo_m) < kModeTolerance) {
+            modes.insert(m);
+          }
+        }
+      }
+      EXPECT_EQ(static_cast<int>(modes.size()), truth.order);
+    }
+    EXPECT_LT(error.rmse, kRmseTolerance);
+    EXPECT_LT(error.max, kMaxErrorTolerance);
+  }
+}
+
+// ---------------------------------------------------------------------------
+// 1. A rectangular table (2-fold, axis z).
+
+TEST(BackendSequences, RectangularTableOneObjectAndTrajectoryWithinNoise) {
+  ExpectSymbaTracksBaselinesFragment(
+      OrbitSpec(Table(SymmetryType::kDiscrete, 2)), "rectangular");
+}
+
+// ---------------------------------------------------------------------------
+// 2. A square table (4-fold), a 3-fold object with a tilted axis that is not
+// its z axis, and a round table.
+
+TEST(BackendSequences, SquareTableOneObjectAndTrajectoryWithinNoise) {
+  ExpectSymbaTracksBaselinesFragment(
+      OrbitSpec(Table(SymmetryType::kDiscrete, 4)), "square");
+}
+
+TEST(BackendSequences, TiltedThreeFoldObjectOneObjectAndTrajectoryWithinNoise) {
+  ScriptedObject object = Table(SymmetryType::kDiscrete, 3);
+  object.class_name = "stool";
+  object.axis_o = Eigen::Vector3d(1.0, 0.5, 0.3).normalized();
+  // The world axis is tilted 24 deg from the vertical.
+  const Eigen::Vector3d axis_w = Eigen::Vector3d(0.4, 0.2, 1.0).normalized();
+  object.T_wo.q = Eigen::Quaterniond::FromTwoVectors(object.axis_o, axis_w);
+  ASSERT_GT(AxisAngle(axis_w, Eigen::Vector3d::UnitZ()), 20.0 * kDegree);
+  ExpectSymbaTracksBaselinesFragment(OrbitSpec(object), "tilted 3-fold");
+}
+
+// A continuous object alone leaves the rotation of the whole rig about its
+// axis unobservable: a yaw-biased front end then turns the cameras about the
+// table (the objects cannot see it) and only the front end's translation
+// resists. This sequence therefore has a front end whose relative motion
+// (given as odometry) has an accurate translation (1 cm) and the same yaw
+// bias on the featureless half. The detector's angle hypotheses cover a
+// half circle per view, centred anywhere (a network's hypotheses need not
+// cover the whole circle): mh's 6-DoF gate then fails too.
+TEST(BackendSequences, RoundTableOneObjectAndTrajectoryWithinNoise) {
+  ScriptedSequenceSpec spec = OrbitSpec(Table(SymmetryType::kContinuous, 0));
+  spec.with_odometry = true;
+  spec.odometry_sigma_t = 0.01;
+  spec.odometry_sigma_r = 0.02;
+  spec.continuous_arc = kPi;
+  ExpectSymbaTracksBaselinesFragment(spec, "round");
+}
+
+// With the yaw-drifting front end poses alone, the azimuth of the cameras
+// about the round table is not observable, but their distance to its axis
+// and their height are: those must stay within the noise. The tolerance is
+// the one above; the azimuthal error is reported, not asserted.
+TEST(BackendSequences, RoundTableFixesWhatItObserves) {
+  const ScriptedSequenceSpec spec =
+      OrbitSpec(Table(SymmetryType::kContinuous, 0));
+  const ScriptedSequence seq = GenerateScriptedSequence(spec);
+  std::unique_ptr<Backend> backend;
+  ASSERT_NO_FATAL_FAILURE(RunSequence(seq, BackendOptions(), &backend));
+  ASSERT_EQ(backend->Objects().size(), 1u);
+  EXPECT_EQ(backend->Objects()[0].symmetry, SymmetryType::kContinuous);
+  const Eigen::Vector3d centre = spec.objects[0].T_wo.t;
+  const std::vector<Rigid3d> estimate = EstimatedPoses(*backend);
+  double sum_sq = 0.0;
+  double max_error = 0.0;
+  for (size_t k = 0; k < estimate.size(); ++k) {
+    const Eigen::Vector3d p = estimate[k].t - centre;
+    const Eigen::Vector3d q = seq.T_wc_true[k].t - centre;
+    const double d =
+        std::hypot(p.head<2>().norm() - q.head<2>().norm(), p.z() - q.z());
+    sum_sq += d * d;
+    max_error = std::max(max_error, d);
+  }
+  const double rmse = std::sqrt(sum_sq / estimate.size());
+  const PositionError full = Positions(seq.T_wc_true, estimate);
+  std::printf(
+      "[ round, front end only ] radius/height RMSE %.3f m, max "
+      "%.3f m; full position RMSE %.3f m\n",
+      rmse,
+      max_error,
+      full.rmse);
+  EXPECT_LT(rmse, kRmseTolerance);
+  EXPECT_LT(max_error, kMaxErrorTolerance);
+}
+
+// ---------------------------------------------------------------------------
+// 3. Two round tables of one class, 1.2 m apart: two objects, never merged,
+// every detection with the table that produced it. Two continuous objects
+// together fix the azimuth, so the plain drifting front end is used.
+
+TEST(BackendSequences, TwoRoundTablesStayApart) {
+  ScriptedSequenceSpec spec;
+  ScriptedObject left = Table(SymmetryType::kContinuous, 0);
+  left.T_wo.t = Eigen::Vector3d(-0.6, 0.0, 0.0);
+  ScriptedObject right = left;
+  right.T_wo.t = Eigen::Vector3d(0.6, 0.0, 0.0);
+  spec.objects = {left, right};
+  spec.detection_sigma_r = 0.05;
+  spec.seed = 3;
+  const ScriptedSequence seq = GenerateScriptedSequence(spec);
+
+  std::unique_ptr<Backend> backend;
+  ASSERT_NO_FATAL_FAILURE(RunSequence(seq, BackendOptions(), &backend));
+  const std::vector<MapObjectEstimate> objects = backend->Objects();
+  ASSERT_EQ(objects.size(), 2u);
+
+  std::map<std::string, int> generated_by;  // detection id -> truth object
+  for (const auto& truths : seq.detections) {
+    for (const auto& truth : truths) generated_by[truth.id] = truth.object;
+  }
+  std::map<int, int> map_object_of;  // truth object -> map object id
+  int count = 0;
+  for (const DetectionAssignment& a : backend->Assignments()) {
+    ASSERT_EQ(generated_by.count(a.detection), 1u) << a.detection;
+    const int truth = generated_by[a.detection];
+    const auto [it, inserted] = map_object_of.emplace(truth, a.object);
+    EXPECT_EQ(it->second, a.object) << "detection " << a.detection;
+    ++count;
+  }
+  EXPECT_EQ(count, 2 * static_cast<int>(seq.keyframes.size()));
+  ASSERT_EQ(map_object_of.size(), 2u);
+  EXPECT_NE(map_object_of[0], map_object_of[1]);
+  for (const MapObjectEstimate& object : objects) {
+    EXPECT_EQ(object.symmetry, SymmetryType::kContinuous);
+    const int truth = object.id == map_object_of[0] ? 0 : 1;
+    EXPECT_LT((object.t_wo - spec.objects[truth].T_wo.t).norm(),
+              kObjectPositionTolerance);
+  }
+  const PositionError error =
+      Positions(seq.T_wc_true, EstimatedPoses(*backend));
+  std::printf("[ two round tables ] keyframe RMSE %.3f m, max %.3f m\n",
+              error.rmse,
+              error.max);
+  EXPECT_LT(error.rmse, kRmseTolerance);
+  EXPECT_LT(error.max, kMaxErrorTolerance);
+}
+
+// ---------------------------------------------------------------------------
+// 4. New objects and classes. Table A at the centre, a chair with exactly
+// table A's pose, table B 1.2 m away (beyond every gate). Every method must
+// create three objects and never put a detection on an object of another
+// class, even where the poses coincide.
+
+TEST(BackendSequences, UnmatchedDetectionsCreateObjectsAndClassesNeverMix) {
+  ScriptedSequenceSpec spec;
+  ScriptedObject table_a = Table(SymmetryType::kDiscrete, 2);
+  ScriptedObject chair = table_a;
+  chair.class_name = "chair";
+  chair.symmetry = SymmetryType::kAsymmetric;
+  ScriptedObject table_b = Table(SymmetryType::kDiscrete, 2);
+  table_b.T_wo.t = Eigen::Vector3d(1.2, 0.3, 0.0);
+  spec.objects = {table_a, chair, table_b};
+  // Every view shows mode 0 only, so that sh and mh (which split a table
+  // whose modes flip, see above) see one pose per object too.
+  spec.mode_script = {{0}};
+  spec.num_keyframes = 6;
+  spec.seed = 4;
+  const ScriptedSequence seq = GenerateScriptedSequence(spec);
+  ASSERT_EQ(seq.detections.front().size(), 3u);
+
+  std::map<std::string, int> generated_by;
+  for (const auto& truths : seq.detections) {
+    for (const auto& truth : truths) generated_by[truth.id] = truth.object;
+  }
+  for (Method method :
+       {Method::kSymba, Method::kMultiHypothesis, Method::kSingleHypothesis}) {
+    SCOPED_TRACE(MethodName(method));
+    BackendOptions options;
+    options.method = method;
+    std::unique_ptr<Backend> backend;
+    ASSERT_TRUE(Backend::Create(options, seq.intrinsics, {}, &backend).ok());
+    ASSERT_TRUE(backend->AddKeyframe(seq.keyframes[0]).ok());
+    // The first keyframe alone: three detections, nothing to match.
+    EXPECT_EQ(backend->Objects().size(), 3u);
+    for (size_t k = 1; k < seq.keyframes.size(); ++k) {
+      ASSERT_TRUE(backend->AddKeyframe(seq.keyframes[k]).ok());
+      ASSERT_TRUE(backend->OptimizeWindow().ok());
+    }
+    const std::vector<MapObjectEstimate> objects = backend->Objects();
+    ASSERT_EQ(objects.size(), 3u);
+    EXPECT_EQ(backend->Statistics().objects, 3);
+    std::map<int, std::string> class_of;
+    for (const MapObjectEstimate& object : objects) {
+      class_of[object.id] = object.class_name;
+    }
+    std::map<int, int> map_object_of;
+    for (const DetectionAssignment& a : backend->Assignments()) {
+      const int truth = generated_by.at(a.detection);
+      EXPECT_EQ(class_of[a.object], spec.objects[truth].class_name)
+          << a.detection;
+      const auto [it, inserted] = map_object_of.emplace(truth, a.object);
+      EXPECT_EQ(it->second, a.object) << a.detection;
+    }
+    EXPECT_EQ(map_object_of.size(), 3u);
+  }
+}
+
+// ---------------------------------------------------------------------------
+// 5. An asymmetric map object becomes discrete. The first view of a 2-fold
+// table shows one mode (read as asymmetric: an asymmetric object); the second
+// shows only the other mode: 6 DoF fail, 5 DoF hold, the object becomes
+// discrete with a second angle pi from the first and keeps its identity.
+
+TEST(BackendSequences, AsymmetricObjectUpgradesToDiscreteOnModeFlip) {
+  ScriptedSequenceSpec spec;
+  spec.objects = {Table(SymmetryType::kDiscrete, 2)};
+  spec.mode_script = {{0}, {1}, {0}, {1}, {0, 1}, {1}, {0}, {0, 1}};
+  spec.num_keyframes = 8;
+  spec.seed = 5;
+  const ScriptedSequence seq = GenerateScriptedSequence(spec);
+
+  std::unique_ptr<Backend> backend;
+  ASSERT_TRUE(
+      Backend::Create(BackendOptions(), seq.intrinsics, {}, &backend).ok());
+  ASSERT_TRUE(backend->AddKeyframe(seq.keyframes[0]).ok());
+  ASSERT_TRUE(backend->OptimizeWindow().ok());
+  ASSERT_EQ(backend->Objects().size(), 1u);
+  EXPECT_EQ(backend->Objects()[0].symmetry, SymmetryType::kAsymmetric);
+  EXPECT_EQ(backend->Assignments()[0].symmetry, SymmetryType::kAsymmetric);
+
+  ASSERT_TRUE(backend->AddKeyframe(seq.keyframes[1]).ok());
+  ASSERT_TRUE(backend->OptimizeWindow().ok());
+  ASSERT_EQ(backend->Objects().size(), 1u);
+  EXPECT_EQ(backend->Objects()[0].symmetry, SymmetryType::kDiscrete);
+  EXPECT_EQ(backend->Statistics().object_upgrades, 1);
+
+  for (size_t k = 2; k < seq.keyframes.size(); ++k) {
+    ASSERT_TRUE(backend->AddKeyframe(seq.keyframes[k]).ok());
+    ASSERT_TRUE(backend->OptimizeWindow().ok());
+  }
+  const std::vector<MapObjectEstimate> objects = backend->Objects();
+  ASSERT_EQ(objects.size(), 1u);
+  const MapObjectEstimate& object = objects[0];
+  EXPECT_EQ(object.symmetry, SymmetryType::kDiscrete);
+  EXPECT_EQ(backend->Statistics().object_upgrades, 1);
+  EXPECT_EQ(object.observations, static_cast<int>(seq.keyframes.size()));
+  ASSERT_EQ(object.angles.size(), 2u);
+  // Two angles pi apart (within the 3 deg hypothesis noise averaged over a
+  // few views and the 1 deg camera error: 5 deg).
+  EXPECT_NEAR(std::abs(WrapToPi(object.angles[1] - object.angles[0])),
+              kPi,
+              5 * kDegree);
+  EXPECT_LT(AxisAngle(object.axis_w, Eigen::Vector3d::UnitZ()), kAxisTolerance);
+  for (const DetectionAssignment& a : backend->Assignments()) {
+    EXPECT_EQ(a.object, object.id);
+  }
+
+  // The same views split the 6-DoF baselines.
+  for (Method method : {Method::kMultiHypothesis, Method::kSingleHypothesis}) {
+    BackendOptions options;
+    options.method = method;
+    std::unique_ptr<Backend> baseline;
+    ASSERT_NO_FATAL_FAILURE(RunSequence(seq, options, &baseline));
+    EXPECT_EQ(baseline->Objects().size(), 2u) << MethodName(method);
+    EXPECT_EQ(baseline->Statistics().object_upgrades, 0);
+  }
+}
+
+// ---------------------------------------------------------------------------
+// 6. Batch and window agree on a sequence that fits one window (8 keyframes,
+// window 10).
+
+std::vector<Rigid3d> SolveShortSequence(const ScriptedSequence& seq,
+                                        bool window_after_each,
+                                        bool final_batch) {
+  BackendOptions options;
+  options.window_size = 10;
+  options.max_iterations = 50;
+  options.batch_max_iterations = 50;
+  std::unique_ptr<Backend> backend;
+  EXPECT_TRUE(Backend::Create(options, seq.intrinsics, {}, &backend).ok());
+  for (const KeyframeInput& kf : seq.keyframes) {
+    EXPECT_TRUE(backend->AddKeyframe(kf).ok());
+    if (window_after_each) {
+      EXPECT_TRUE(backend->OptimizeWindow().ok());
+    }
+  }
+  SolveReport report;
+  EXPECT_TRUE((final_batch ? backend->OptimizeBatch(&report)
+                           : backend->OptimizeWindow(&report))
+                  .ok());
+  EXPECT_TRUE(report.converged);
+  EXPECT_EQ(report.free_keyframes, static_cast<int>(seq.keyframes.size()) - 1);
+  return EstimatedPoses(*backend);
+}
+
+ScriptedSequence ShortSequence(double rotation_sigma,
+                               double translation_sigma) {
+  ScriptedSequenceSpec spec = OrbitSpec(Table(SymmetryType::kDiscrete, 2));
+  spec.num_keyframes = 8;
+  spec.rotation_sigma = rotation_sigma;
+  spec.translation_sigma = translation_sigma;
+  return GenerateScriptedSequence(spec);
+}
+
+// The window then frees exactly what the batch frees (all but the gauge
+// keyframe), so with the same iteration cap one window solve and one batch
+// solve are the same problem from the same state: the poses agree to
+// rounding (1e-9 m, 1e-9 rad).
+TEST(BackendSequences, BatchAndWindowAgreeWhenTheWindowHoldsEverything) {
+  const ScriptedSequence seq = ShortSequence(3.0 * kDegree, 0.02);
+  const std::vector<Rigid3d> batch = SolveShortSequence(seq, false, true);
+  const std::vector<Rigid3d> window = SolveShortSequence(seq, false, false);
+  ASSERT_EQ(batch.size(), 8u);
+  ASSERT_EQ(window.size(), 8u);
+  for (size_t k = 0; k < batch.size(); ++k) {
+    EXPECT_LT((batch[k].t - window[k].t).norm(), 1e-9) << k;
+    EXPECT_LT(batch[k].q.angularDistance(window[k].q), 1e-9) << k;
+  }
+  // The solve did something: the poses moved from the front end's.
+  EXPECT_GT((batch.back().t - seq.keyframes.back().T_wc->t).norm(), 1e-4);
+}
+
+// Solving the window after every keyframe reaches the batch optimum by
+// another path. With max-mixture edges that holds only where the optimum is
+// unique: each edge follows its nearest hypothesis, so with 3 deg hypothesis
+// noise every choice of winners is its own local minimum, a few cm from the
+// others (on this sequence the two paths settle 8 cm apart at costs 289 and
+// 285, both converged). With the hypotheses of a mode nearly identical
+// (0.05 deg, 0.5 mm) there is one basin per mode, and the paths agree to
+// the solver tolerance: Ceres stops when the relative cost decrease falls
+// below 1e-6 (function_tolerance), which on this problem (cost ~280 over
+// ~700 residuals) leaves the poses within about a millimetre of each other
+// (measured 0.5 mm, 0.014 deg); 2 mm and 0.05 deg are allowed.
+TEST(BackendSequences, IncrementalWindowReachesTheBatchOptimum) {
+  const ScriptedSequence seq = ShortSequence(0.05 * kDegree, 0.0005);
+  const std::vector<Rigid3d> batch = SolveShortSequence(seq, false, true);
+  const std::vector<Rigid3d> incremental = SolveShortSequence(seq, true, false);
+  ASSERT_EQ(batch.size(), incremental.size());
+  for (size_t k = 0; k < batch.size(); ++k) {
+    EXPECT_LT((batch[k].t - incremental[k].t).norm(), 2e-3) << k;
+    EXPECT_LT(batch[k].q.angularDistance(incremental[k].q), 0.05 * kDegree)
+        << k;
+  }
+}
+
+// ---------------------------------------------------------------------------
+// 7. Input errors: a clear message and nothing added.
+
+KeyframeInput ValidKeyframe(int64_t id) {
+  KeyframeInput kf;
+  kf.id = id;
+  kf.timestamp = 0.1 * static_cast<double>(id);
+  kf.T_wc = Rigid3d(Eigen::Quaterniond::Identity(),
+                    Eigen::Vector3d(0.1 * static_cast<double>(id), 0, 0));
+  DetectionInput det;
+  det.id = std::to_string(id) + "/0";
+  det.class_name = "table";
+  det.hypotheses.push_back(
+      {Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, 2)), 1.0});
+  kf.detections.push_back(det);
+  return kf;
+}
+
+struct Counts {
+  size_t keyframes, objects, assignments;
+  int detections, points;
+  bool operator==(const Counts& o) const {
+    return keyframes == o.keyframes && objects == o.objects &&
+           assignments == o.assignments && detections == o.detections &&
+           points == o.points;
+  }
+};
+
+Counts CountsOf(const Backend& backend) {
+  return {backend.Keyframes().size(),
+          backend.Objects().size(),
+          backend.Assignments().size(),
+          backend.Statistics().detections,
+          backend.Statistics().points};
+}
+
+void ExpectRejected(Backend* backend,
+                    const KeyframeInput& kf,
+                    const std::string& message) {
+  const Counts before = CountsOf(*backend);
+  const Status status = backend->AddKeyframe(kf);
+  EXPECT_FALSE(status.ok());
+  EXPECT_THAT(status.message(), HasSubstr(message));
+  EXPECT_TRUE(CountsOf(*backend) == before) << status.message();
+}
+
+TEST(BackendInput, RejectsBadKeyframesAndAddsNothing) {
+  std::unique_ptr<Backend> backend;
+  ASSERT_TRUE(
+      Backend::Create(BackendOptions(), std::nullopt, {}, &backend).ok());
+
+  KeyframeInput no_pose = ValidKeyframe(1);
+  no_pose.T_wc.reset();
+  ExpectRejected(backend.get(), no_pose, "the first keyframe needs T_wc");
+  EXPECT_TRUE(backend->Keyframes().empty());
+
+  ASSERT_TRUE(backend->AddKeyframe(ValidKeyframe(5)).ok());
+  ASSERT_EQ(backend->Keyframes().size(), 1u);
+
+  ExpectRejected(backend.get(), ValidKeyframe(5), "id must be greater");
+  ExpectRejected(backend.get(), ValidKeyframe(4), "id must be greater");
+
+  KeyframeInput no_hypotheses = ValidKeyframe(6);
+  no_hypotheses.detections[0].hypotheses.clear();
+  ExpectRejected(backend.get(), no_hypotheses, "has no hypotheses");
+
+  KeyframeInput nan_hypothesis = ValidKeyframe(6);
+  nan_hypothesis.detections[0].hypotheses.push_back(
+      nan_hypothesis.detections[0].hypotheses[0]);
+  nan_hypothesis.detections[0].hypotheses[1].T_co.t.y() =
+      std::numeric_limits<double>::quiet_NaN();
+  ExpectRejected(backend.get(), nan_hypothesis, "hypothesis 1");
+  ExpectRejected(backend.get(), nan_hypothesis, "not finite");
+
+  // A valid detection before the bad one must not be added either.
+  KeyframeInput nan_second = ValidKeyframe(6);
+  nan_second.detections.push_back(nan_hypothesis.detections[0]);
+  nan_second.detections[1].id = "6/1";
+  ExpectRejected(backend.get(), nan_second, "detection 6/1");
+
+  KeyframeInput with_points = ValidKeyframe(6);
+  PointObservation point;
+  point.id = 7;
+  point.uv = Eigen::Vector2d(320, 240);
+  point.depth = 3.0;
+  with_points.points.push_back(point);
+  ExpectRejected(backend.get(), with_points, "intrinsics");
+
+  // After all the rejections the backend still takes the next keyframe.
+  EXPECT_TRUE(backend->AddKeyframe(ValidKeyframe(6)).ok());
+  EXPECT_EQ(backend->Keyframes().size(), 2u);
+  EXPECT_TRUE(backend->OptimizeWindow().ok());
+}
+
+TEST(BackendInput, OptionsAreValidated) {
+  BackendOptions options;
+  EXPECT_TRUE(options.Validate().ok());
+  options.window_size = 0;
+  const Status status = options.Validate();
+  EXPECT_FALSE(status.ok());
+  EXPECT_THAT(status.message(), HasSubstr("window_size"));
+
+  std::unique_ptr<Backend> backend;
+  const Status created = Backend::Create(options, std::nullopt, {}, &backend);
+  EXPECT_FALSE(created.ok());
+  EXPECT_THAT(created.message(), HasSubstr("window_size"));
+  EXPECT_EQ(backend, nullptr);
+
+  options = BackendOptions();
+  options.gate_position = -1.0;
+  EXPECT_THAT(options.Validate().message(), HasSubstr("gate_position"));
+}
+
+// The generator is deterministic for a seed (the tests above rely on it).
+TEST(ScriptedSequence, DeterministicForASeed) {
+  const ScriptedSequenceSpec spec =
+      OrbitSpec(Table(SymmetryType::kDiscrete, 2));
+  const ScriptedSequence a = GenerateScriptedSequence(spec);
+  const ScriptedSequence b = GenerateScriptedSequence(spec);
+  ASSERT_EQ(a.keyframes.size(), b.keyframes.size());
+  for (size_t k = 0; k < a.keyframes.size(); ++k) {
+    EXPECT_EQ(a.keyframes[k].T_wc->t, b.keyframes[k].T_wc->t);
+    ASSERT_EQ(a.keyframes[k].detections.size(),
+              b.keyframes[k].detections.size());
+    for (size_t d = 0; d < a.keyframes[k].detections.size(); ++d) {
+      const auto& ha = a.keyframes[k].detections[d].hypotheses;
+      const auto& hb = b.keyframes[k].detections[d].hypotheses;
+      ASSERT_EQ(ha.size(), hb.size());
+      for (size_t j = 0; j < ha.size(); ++j) {
+        EXPECT_EQ(ha[j].T_co.q.coeffs(), hb[j].T_co.q.coeffs());
+        EXPECT_EQ(ha[j].weight, hb[j].weight);
+      }
+    }
+    EXPECT_EQ(a.keyframes[k].points.size(), b.keyframes[k].points.size());
+  }
+  // Points only on the rich half, and plenty of them there.
+  for (size_t k = 0; k < a.keyframes.size(); ++k) {
+    if (a.rich[k]) {
+      EXPECT_GE(a.keyframes[k].points.size(), 20u) << k;
+    } else {
+      EXPECT_TRUE(a.keyframes[k].points.empty()) << k;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace symba

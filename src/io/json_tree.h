@@ -56,6 +56,7 @@ class JsonTree {
   // Empties the tree, keeping its capacity.
   void Clear();
   bool empty() const { return nodes_.empty(); }
+  std::size_t size() const { return nodes_.size(); }
   const Node& node(Index i) const { return nodes_[i]; }
   std::string_view String(Index i) const {
     return std::string_view(strings_).substr(nodes_[i].string_offset,

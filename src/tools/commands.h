@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
+void RegisterEvalCommand(CLI::App* app, int* exit_code);
 void RegisterReplayCommand(CLI::App* app, int* exit_code);
 void RegisterSimulateCommand(CLI::App* app, int* exit_code);
 
@@ -14,6 +15,7 @@ namespace symba::tools {
 inline void RegisterCommands(CLI::App* app, int* exit_code) {
   RegisterReplayCommand(app, exit_code);
   RegisterSimulateCommand(app, exit_code);
+  RegisterEvalCommand(app, exit_code);
 }
 
 }  // namespace symba::tools

@@ -1,0 +1,889 @@
+#include "symba/evaluation/evaluate.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string_view>
+#include <system_error>
+#include <utility>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include "symba/geometry/angle.h"
+#include "symba/io/replay_output.h"
+
+namespace symba {
+namespace {
+
+using Json = nlohmann::json;
+using OrderedJson = nlohmann::ordered_json;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kRadToDeg = 180.0 / kPi;
+// Quaternions and axes whose norm is within this of 1 are normalised; others
+// are errors (as in the log format).
+constexpr double kUnitTolerance = 1e-3;
+// gt_objects.json: "axis" must be pose.q * "axis_o" to this (unit vectors).
+constexpr double kAxisConsistency = 1e-3;
+
+std::string JoinPath(const std::string& dir, const char* name) {
+  if (dir.empty() || dir.back() == '/') return dir + name;
+  return dir + "/" + name;
+}
+
+std::string At(const std::string& path, int line) {
+  return path + ":" + std::to_string(line);
+}
+
+std::string Quoted(const std::string& text) { return "\"" + text + "\""; }
+
+// "%g" of a value, for messages.
+std::string Approx(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%g", value);
+  return buffer;
+}
+
+Status ReadText(const std::string& path, std::string* text) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Status::Error(path + ": cannot open");
+  text->assign(std::istreambuf_iterator<char>(in),
+               std::istreambuf_iterator<char>());
+  if (in.bad()) return Status::Error(path + ": cannot read");
+  return Status::Ok();
+}
+
+// The lines of `text`, without their '\n' (and a trailing '\r').
+std::vector<std::string_view> SplitLines(const std::string& text) {
+  std::vector<std::string_view> lines;
+  std::string_view rest(text);
+  while (!rest.empty()) {
+    const std::size_t end = rest.find('\n');
+    std::string_view line = rest.substr(0, end);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    lines.push_back(line);
+    if (end == std::string_view::npos) break;
+    rest.remove_prefix(end + 1);
+  }
+  return lines;
+}
+
+bool IsBlank(std::string_view line) {
+  return line.find_first_not_of(" \t") == std::string_view::npos;
+}
+
+bool ParseDouble(std::string_view token, double* value) {
+  const char* end = token.data() + token.size();
+  const auto result = std::from_chars(token.data(), end, *value);
+  return result.ec == std::errc() && result.ptr == end && std::isfinite(*value);
+}
+
+template <typename Int>
+bool ParseInteger(std::string_view token, Int* value) {
+  const char* end = token.data() + token.size();
+  const auto result = std::from_chars(token.data(), end, *value);
+  return result.ec == std::errc() && result.ptr == end;
+}
+
+// Normalises `q` if its norm is within kUnitTolerance of 1.
+bool NormaliseQuaternion(Eigen::Quaterniond* q) {
+  const double norm = q->norm();
+  if (!(std::abs(norm - 1.0) <= kUnitTolerance)) return false;
+  q->normalize();
+  return true;
+}
+
+// The rotation angle between two unit quaternions, in [0, pi].
+double AngleBetween(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
+  const Eigen::Quaterniond d = a.conjugate() * b;
+  return 2.0 * std::atan2(d.vec().norm(), std::abs(d.w()));
+}
+
+// The angle between two lines through the origin (sign-free), in [0, pi/2].
+double LineAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d u = a.normalized();
+  const Eigen::Vector3d v = b.normalized();
+  // atan2 of |u x v| and |u . v| is accurate at 0 and at pi/2.
+  return std::atan2(u.cross(v).norm(), std::abs(u.dot(v)));
+}
+
+// ---------------------------------------------------------------------------
+// TUM trajectories.
+
+Status ReadTum(const std::string& path, std::vector<TrajectoryPose>* poses) {
+  std::string text;
+  Status status = ReadText(path, &text);
+  if (!status.ok()) return status;
+  poses->clear();
+  const std::vector<std::string_view> lines = SplitLines(text);
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::string_view line = lines[i];
+    const int number = static_cast<int>(i) + 1;
+    if (IsBlank(line) || line.front() == '#') continue;
+    std::vector<std::string_view> tokens;
+    std::size_t pos = 0;
+    while (true) {
+      pos = line.find_first_not_of(" \t", pos);
+      if (pos == std::string_view::npos) break;
+      const std::size_t end =
+          std::min(line.find_first_of(" \t", pos), line.size());
+      tokens.push_back(line.substr(pos, end - pos));
+      pos = end;
+    }
+    if (tokens.size() != 8) {
+      return Status::Error(At(path, number) +
+                           ": expected 8 numbers (timestamp tx ty tz qx qy "
+                           "qz qw), found " +
+                           std::to_string(tokens.size()));
+    }
+    double v[8];
+    for (int k = 0; k < 8; ++k) {
+      if (!ParseDouble(tokens[k], &v[k])) {
+        return Status::Error(At(path, number) + ": " +
+                             Quoted(std::string(tokens[k])) +
+                             " is not a finite number");
+      }
+    }
+    TrajectoryPose pose;
+    pose.timestamp = v[0];
+    pose.T_wc.t = Eigen::Vector3d(v[1], v[2], v[3]);
+    pose.T_wc.q = Eigen::Quaterniond(v[7], v[4], v[5], v[6]);
+    pose.line = number;
+    if (!NormaliseQuaternion(&pose.T_wc.q)) {
+      return Status::Error(At(path, number) + ": quaternion norm " +
+                           Approx(pose.T_wc.q.norm()) + " is not 1");
+    }
+    if (!poses->empty() && !(pose.timestamp > poses->back().timestamp)) {
+      return Status::Error(At(path, number) + ": timestamp " +
+                           std::string(tokens[0]) +
+                           " is not after the previous one");
+    }
+    poses->push_back(pose);
+  }
+  if (poses->empty()) return Status::Error(path + ": no keyframes");
+  return Status::Ok();
+}
+
+// ---------------------------------------------------------------------------
+// JSON files: syntax errors as FILE:LINE, content errors as FILE: member.
+
+Status ReadJson(const std::string& path, Json* json) {
+  std::string text;
+  Status status = ReadText(path, &text);
+  if (!status.ok()) return status;
+  try {
+    *json = Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    // e.byte is the 1-based offset of the character where parsing stopped
+    // (one past the end at the end of input); count the lines before it.
+    const std::size_t before =
+        std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
+    const int line = 1 + static_cast<int>(std::count(
+                             text.begin(),
+                             text.begin() + static_cast<std::ptrdiff_t>(before),
+                             '\n'));
+    // nlohmann's message: "[json.exception.parse_error.101] parse error at
+    // line L, column C: REASON"; keep REASON.
+    std::string reason = e.what();
+    const std::size_t column = reason.find("column ");
+    const std::size_t colon = column == std::string::npos
+                                  ? std::string::npos
+                                  : reason.find(": ", column);
+    if (colon != std::string::npos) reason = reason.substr(colon + 2);
+    return Status::Error(At(path, line) + ": invalid JSON: " + reason);
+  }
+  return Status::Ok();
+}
+
+// Reads JSON members with "FILE: where: reason" errors.
+class JsonReader {
+ public:
+  explicit JsonReader(std::string path) : path_(std::move(path)) {}
+
+  Status Error(const std::string& where, const std::string& reason) const {
+    return Status::Error(path_ + ": " + where + ": " + reason);
+  }
+
+  // `object[key]`, which must exist.
+  Status Member(const Json& object,
+                const std::string& where,
+                const char* key,
+                const Json** member) const {
+    const auto it = object.find(key);
+    if (it == object.end()) {
+      return Status::Error(path_ + ": " + where + ": missing " + Quoted(key));
+    }
+    *member = &*it;
+    return Status::Ok();
+  }
+
+  Status Object(const Json& json, const std::string& where) const {
+    if (!json.is_object()) return Error(where, "expected a JSON object");
+    return Status::Ok();
+  }
+
+  Status Int(const Json& object,
+             const std::string& where,
+             const char* key,
+             int* value) const {
+    const Json* member = nullptr;
+    Status status = Member(object, where, key, &member);
+    if (!status.ok()) return status;
+    if (!member->is_number_integer() ||
+        member->get<int64_t>() < std::numeric_limits<int>::min() ||
+        (member->is_number_unsigned()
+             ? member->get<uint64_t>() >
+                   static_cast<uint64_t>(std::numeric_limits<int>::max())
+             : member->get<int64_t>() > std::numeric_limits<int>::max())) {
+      return Error(Sub(where, key), "expected an integer");
+    }
+    *value = member->get<int>();
+    return Status::Ok();
+  }
+
+  Status String(const Json& object,
+                const std::string& where,
+                const char* key,
+                std::string* value) const {
+    const Json* member = nullptr;
+    Status status = Member(object, where, key, &member);
+    if (!status.ok()) return status;
+    if (!member->is_string())
+      return Error(Sub(where, key), "expected a string");
+    *value = member->get<std::string>();
+    return Status::Ok();
+  }
+
+  Status Symmetry(const Json& object,
+                  const std::string& where,
+                  SymmetryType* type) const {
+    std::string name;
+    Status status = String(object, where, "symmetry", &name);
+    if (!status.ok()) return status;
+    const std::optional<SymmetryType> parsed = ParseSymmetryType(name);
+    if (!parsed) {
+      return Error(Sub(where, "symmetry"),
+                   Quoted(name) + " is not asymmetric, discrete or continuous");
+    }
+    *type = *parsed;
+    return Status::Ok();
+  }
+
+  // An array of exactly `n` finite numbers.
+  Status Numbers(const Json& json,
+                 const std::string& where,
+                 int n,
+                 double* values) const {
+    if (!json.is_array() || static_cast<int>(json.size()) != n) {
+      return Error(where,
+                   "expected an array of " + std::to_string(n) + " numbers");
+    }
+    for (int i = 0; i < n; ++i) {
+      if (!json[i].is_number() || !std::isfinite(json[i].get<double>())) {
+        return Error(
+            where,
+            "expected an array of " + std::to_string(n) + " finite numbers");
+      }
+      values[i] = json[i].get<double>();
+    }
+    return Status::Ok();
+  }
+
+  Status Vector(const Json& object,
+                const std::string& where,
+                const char* key,
+                Eigen::Vector3d* v) const {
+    const Json* member = nullptr;
+    Status status = Member(object, where, key, &member);
+    if (!status.ok()) return status;
+    double values[3];
+    status = Numbers(*member, Sub(where, key), 3, values);
+    if (!status.ok()) return status;
+    *v = Eigen::Vector3d(values[0], values[1], values[2]);
+    return Status::Ok();
+  }
+
+  // A unit 3-vector (normalised when within kUnitTolerance of unit length).
+  Status UnitVector(const Json& object,
+                    const std::string& where,
+                    const char* key,
+                    Eigen::Vector3d* v) const {
+    Status status = Vector(object, where, key, v);
+    if (!status.ok()) return status;
+    if (!(std::abs(v->norm() - 1.0) <= kUnitTolerance)) {
+      return Error(Sub(where, key), "norm " + Approx(v->norm()) + " is not 1");
+    }
+    v->normalize();
+    return Status::Ok();
+  }
+
+  // {"t": [x, y, z], "q": [qx, qy, qz, qw]}.
+  Status Pose(const Json& json, const std::string& where, Rigid3d* T) const {
+    Status status = Object(json, where);
+    if (!status.ok()) return status;
+    status = Vector(json, where, "t", &T->t);
+    if (!status.ok()) return status;
+    const Json* q_json = nullptr;
+    status = Member(json, where, "q", &q_json);
+    if (!status.ok()) return status;
+    double q[4];
+    status = Numbers(*q_json, Sub(where, "q"), 4, q);
+    if (!status.ok()) return status;
+    T->q = Eigen::Quaterniond(q[3], q[0], q[1], q[2]);
+    if (!NormaliseQuaternion(&T->q)) {
+      return Error(Sub(where, "q"),
+                   "quaternion norm " + Approx(T->q.norm()) + " is not 1");
+    }
+    return Status::Ok();
+  }
+
+  static std::string Sub(const std::string& where, const char* key) {
+    return where.empty() ? std::string(key) : where + "." + key;
+  }
+  static std::string Index(const std::string& where, std::size_t i) {
+    return where + "[" + std::to_string(i) + "]";
+  }
+
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+Status ReadGroundTruthObjects(const std::string& path, GroundTruth* gt) {
+  Json root;
+  Status status = ReadJson(path, &root);
+  if (!status.ok()) return status;
+  const JsonReader r(path);
+  if (!root.is_object()) {
+    return Status::Error(path + ": expected a JSON object at the top level");
+  }
+  const Json* objects = nullptr;
+  status = r.Member(root, "top level", "objects", &objects);
+  if (!status.ok()) return status;
+  if (!objects->is_array()) return r.Error("objects", "expected an array");
+  std::set<int> ids;
+  for (std::size_t i = 0; i < objects->size(); ++i) {
+    const Json& json = (*objects)[i];
+    const std::string where = JsonReader::Index("objects", i);
+    GroundTruthObject o;
+    status = r.Object(json, where);
+    if (status.ok()) status = r.Int(json, where, "id", &o.id);
+    if (status.ok()) status = r.String(json, where, "class", &o.class_name);
+    if (status.ok()) status = r.Symmetry(json, where, &o.symmetry);
+    if (status.ok()) status = r.Int(json, where, "order", &o.order);
+    if (!status.ok()) return status;
+    if (!ids.insert(o.id).second) {
+      return r.Error(JsonReader::Sub(where, "id"),
+                     "duplicate id " + std::to_string(o.id));
+    }
+    if (o.symmetry == SymmetryType::kDiscrete ? o.order < 2 : o.order != 0) {
+      return r.Error(JsonReader::Sub(where, "order"),
+                     o.symmetry == SymmetryType::kDiscrete
+                         ? "a discrete object needs an order of at least 2"
+                         : "must be 0 for an object that is not discrete");
+    }
+    const Json* pose = nullptr;
+    status = r.Member(json, where, "pose", &pose);
+    if (status.ok()) {
+      status = r.Pose(*pose, JsonReader::Sub(where, "pose"), &o.T_wo);
+    }
+    if (!status.ok()) return status;
+    if (o.symmetry != SymmetryType::kAsymmetric) {
+      status = r.UnitVector(json, where, "axis_o", &o.axis_o);
+      if (status.ok()) status = r.UnitVector(json, where, "axis", &o.axis_w);
+      if (!status.ok()) return status;
+      if ((o.T_wo.q * o.axis_o - o.axis_w).norm() > kAxisConsistency) {
+        return r.Error(JsonReader::Sub(where, "axis"),
+                       "is not pose.q * axis_o");
+      }
+    }
+    gt->objects.push_back(std::move(o));
+  }
+  const Json* detections = nullptr;
+  status = r.Member(root, "top level", "detections", &detections);
+  if (!status.ok()) return status;
+  if (!detections->is_object()) {
+    return r.Error("detections", "expected a JSON object");
+  }
+  for (const auto& [id, value] : detections->items()) {
+    const std::string where = "detections[" + Quoted(id) + "]";
+    if (!value.is_number_integer()) {
+      return r.Error(where, "expected an integer (a ground-truth object id)");
+    }
+    const int64_t object = value.get<int64_t>();
+    if (object < std::numeric_limits<int>::min() ||
+        object > std::numeric_limits<int>::max() ||
+        ids.count(static_cast<int>(object)) == 0) {
+      return r.Error(where,
+                     "object " + std::to_string(object) + " is not in objects");
+    }
+    gt->detections[id] = static_cast<int>(object);
+  }
+  return Status::Ok();
+}
+
+Status ReadMapObjects(const std::string& path,
+                      std::vector<MapObjectEstimate>* result) {
+  Json root;
+  Status status = ReadJson(path, &root);
+  if (!status.ok()) return status;
+  const JsonReader r(path);
+  if (!root.is_object()) {
+    return Status::Error(path + ": expected a JSON object at the top level");
+  }
+  const Json* objects = nullptr;
+  status = r.Member(root, "top level", "objects", &objects);
+  if (!status.ok()) return status;
+  if (!objects->is_array()) return r.Error("objects", "expected an array");
+  std::set<int> ids;
+  result->clear();
+  for (std::size_t i = 0; i < objects->size(); ++i) {
+    const Json& json = (*objects)[i];
+    const std::string where = JsonReader::Index("objects", i);
+    MapObjectEstimate o;
+    status = r.Object(json, where);
+    if (status.ok()) status = r.Int(json, where, "id", &o.id);
+    if (status.ok()) status = r.String(json, where, "class", &o.class_name);
+    if (status.ok()) status = r.Symmetry(json, where, &o.symmetry);
+    if (status.ok()) status = r.Vector(json, where, "t", &o.t_wo);
+    if (status.ok()) {
+      status = r.Int(json, where, "observations", &o.observations);
+    }
+    if (!status.ok()) return status;
+    if (!ids.insert(o.id).second) {
+      return r.Error(JsonReader::Sub(where, "id"),
+                     "duplicate id " + std::to_string(o.id));
+    }
+    if (o.symmetry != SymmetryType::kAsymmetric) {
+      status = r.UnitVector(json, where, "axis", &o.axis_w);
+      if (!status.ok()) return status;
+    }
+    if (o.symmetry == SymmetryType::kDiscrete) {
+      const Json* angles = nullptr;
+      status = r.Member(json, where, "angles", &angles);
+      if (!status.ok()) return status;
+      const std::string angles_where = JsonReader::Sub(where, "angles");
+      if (!angles->is_array()) {
+        return r.Error(angles_where, "expected an array of numbers");
+      }
+      for (const Json& angle : *angles) {
+        if (!angle.is_number() || !std::isfinite(angle.get<double>())) {
+          return r.Error(angles_where, "expected an array of finite numbers");
+        }
+        o.angles.push_back(angle.get<double>());
+      }
+    }
+    const Json* poses = nullptr;
+    status = r.Member(json, where, "poses", &poses);
+    if (!status.ok()) return status;
+    const std::string poses_where = JsonReader::Sub(where, "poses");
+    if (!poses->is_array() || poses->empty()) {
+      return r.Error(poses_where, "expected a non-empty array of poses");
+    }
+    for (std::size_t k = 0; k < poses->size(); ++k) {
+      Rigid3d T;
+      status = r.Pose((*poses)[k], JsonReader::Index(poses_where, k), &T);
+      if (!status.ok()) return status;
+      o.poses.push_back(T);
+    }
+    result->push_back(std::move(o));
+  }
+  return Status::Ok();
+}
+
+// ---------------------------------------------------------------------------
+// associations.csv.
+
+// Splits one CSV record into fields ('"' quotes a field, '""' is a quote).
+bool SplitCsv(std::string_view line, std::vector<std::string>* fields) {
+  fields->assign(1, std::string());
+  bool quoted = false;
+  bool was_quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    std::string& field = fields->back();
+    if (quoted) {
+      if (c != '"') {
+        field += c;
+      } else if (i + 1 < line.size() && line[i + 1] == '"') {
+        field += '"';
+        ++i;
+      } else {
+        quoted = false;
+      }
+    } else if (c == ',') {
+      fields->emplace_back();
+      was_quoted = false;
+    } else if (c == '"' && field.empty() && !was_quoted) {
+      quoted = true;
+      was_quoted = true;
+    } else if (was_quoted) {
+      return false;  // text after a closing quote
+    } else {
+      field += c;
+    }
+  }
+  return !quoted;
+}
+
+Status ReadAssociations(const std::string& path,
+                        std::vector<AssociationRow>* rows) {
+  std::string text;
+  Status status = ReadText(path, &text);
+  if (!status.ok()) return status;
+  rows->clear();
+  const std::vector<std::string_view> lines = SplitLines(text);
+  static constexpr std::string_view kHeader =
+      "keyframe,detection,object,symmetry";
+  if (lines.empty() || lines[0] != kHeader) {
+    return Status::Error(At(path, 1) + ": expected the header " +
+                         std::string(kHeader));
+  }
+  std::set<std::string> seen;
+  std::vector<std::string> fields;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const int number = static_cast<int>(i) + 1;
+    if (lines[i].empty()) continue;
+    if (!SplitCsv(lines[i], &fields)) {
+      return Status::Error(At(path, number) + ": malformed quoted field");
+    }
+    if (fields.size() != 4) {
+      return Status::Error(At(path, number) + ": expected 4 fields, found " +
+                           std::to_string(fields.size()));
+    }
+    AssociationRow row;
+    row.line = number;
+    if (!ParseInteger(fields[0], &row.keyframe)) {
+      return Status::Error(At(path, number) + ": keyframe " +
+                           Quoted(fields[0]) + " is not an integer");
+    }
+    row.detection = fields[1];
+    if (row.detection.empty()) {
+      return Status::Error(At(path, number) + ": empty detection id");
+    }
+    if (!ParseInteger(fields[2], &row.object)) {
+      return Status::Error(At(path, number) + ": object " + Quoted(fields[2]) +
+                           " is not an integer");
+    }
+    const std::optional<SymmetryType> type = ParseSymmetryType(fields[3]);
+    if (!type) {
+      return Status::Error(At(path, number) + ": symmetry " +
+                           Quoted(fields[3]) +
+                           " is not asymmetric, discrete or continuous");
+    }
+    row.symmetry = *type;
+    if (!seen.insert(row.detection).second) {
+      return Status::Error(At(path, number) + ": duplicate detection " +
+                           Quoted(row.detection));
+    }
+    rows->push_back(std::move(row));
+  }
+  return Status::Ok();
+}
+
+// ---------------------------------------------------------------------------
+// Formatting.
+
+std::string Fixed(double value, int decimals) {
+  if (!std::isfinite(value)) return "n/a";
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.*f", decimals, value);
+  return buffer;
+}
+
+std::string Percent(int correct, int total) {
+  if (total == 0) return "n/a";
+  return Fixed(100.0 * correct / total, 1) + " % (" + std::to_string(correct) +
+         "/" + std::to_string(total) + ")";
+}
+
+OrderedJson Number(double value) {
+  return std::isfinite(value) ? OrderedJson(value) : OrderedJson(nullptr);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+
+Status ReadGroundTruth(const std::string& gt_dir, GroundTruth* gt) {
+  *gt = GroundTruth();
+  gt->trajectory_path = JoinPath(gt_dir, "gt_trajectory.tum");
+  gt->objects_path = JoinPath(gt_dir, "gt_objects.json");
+  Status status = ReadTum(gt->trajectory_path, &gt->keyframes);
+  if (!status.ok()) return status;
+  return ReadGroundTruthObjects(gt->objects_path, gt);
+}
+
+Status ReadReplayOutputs(const std::string& result_dir,
+                         ReplayOutputs* outputs) {
+  *outputs = ReplayOutputs();
+  outputs->trajectory_path = JoinPath(result_dir, "trajectory.tum");
+  outputs->objects_path = JoinPath(result_dir, "objects.json");
+  outputs->associations_path = JoinPath(result_dir, "associations.csv");
+  Status status = ReadTum(outputs->trajectory_path, &outputs->keyframes);
+  if (!status.ok()) return status;
+  status = ReadMapObjects(outputs->objects_path, &outputs->objects);
+  if (!status.ok()) return status;
+  return ReadAssociations(outputs->associations_path, &outputs->associations);
+}
+
+int Evaluation::MaxFragmentation() const {
+  int largest = 0;
+  for (const ObjectEvaluation& o : objects) {
+    largest = std::max(largest, o.map_objects);
+  }
+  return largest;
+}
+
+Status EvaluateReplay(const GroundTruth& gt,
+                      const ReplayOutputs& result,
+                      Evaluation* evaluation) {
+  Evaluation e;
+
+  // Keyframes, matched by timestamp (both lists increase strictly).
+  std::vector<bool> gt_matched(gt.keyframes.size(), false);
+  double sum_position = 0.0;
+  double sum_rotation = 0.0;
+  for (const TrajectoryPose& kf : result.keyframes) {
+    const auto it = std::lower_bound(
+        gt.keyframes.begin(),
+        gt.keyframes.end(),
+        kf.timestamp - kTimestampTolerance,
+        [](const TrajectoryPose& p, double t) { return p.timestamp < t; });
+    if (it == gt.keyframes.end() ||
+        it->timestamp > kf.timestamp + kTimestampTolerance) {
+      return Status::Error(At(result.trajectory_path, kf.line) +
+                           ": no keyframe of " + gt.trajectory_path +
+                           " has timestamp " + FormatDouble(kf.timestamp));
+    }
+    gt_matched[it - gt.keyframes.begin()] = true;
+    const double position_error = (kf.T_wc.t - it->T_wc.t).norm();
+    const double rotation_error = AngleBetween(it->T_wc.q, kf.T_wc.q);
+    sum_position += position_error * position_error;
+    sum_rotation += rotation_error * rotation_error;
+    e.max_position_error = std::max(e.max_position_error, position_error);
+  }
+  for (std::size_t i = 0; i < gt.keyframes.size(); ++i) {
+    if (!gt_matched[i]) {
+      return Status::Error(At(gt.trajectory_path, gt.keyframes[i].line) +
+                           ": the keyframe at timestamp " +
+                           FormatDouble(gt.keyframes[i].timestamp) +
+                           " has no estimate in " + result.trajectory_path);
+    }
+  }
+  e.keyframes = static_cast<int>(result.keyframes.size());
+  e.position_rmse = std::sqrt(sum_position / e.keyframes);
+  e.rotation_rmse_deg = kRadToDeg * std::sqrt(sum_rotation / e.keyframes);
+
+  // Map objects by id.
+  std::map<int, const MapObjectEstimate*> map_objects;
+  for (const MapObjectEstimate& o : result.objects) map_objects[o.id] = &o;
+  e.map_objects = static_cast<int>(result.objects.size());
+
+  // Detections: ground-truth object and map object of each.
+  std::map<int, std::size_t> gt_index;
+  for (std::size_t i = 0; i < gt.objects.size(); ++i) {
+    gt_index[gt.objects[i].id] = i;
+    ObjectEvaluation o;
+    o.gt_id = gt.objects[i].id;
+    o.class_name = gt.objects[i].class_name;
+    o.symmetry = gt.objects[i].symmetry;
+    o.order = gt.objects[i].order;
+    e.objects.push_back(std::move(o));
+  }
+  std::set<std::string> associated;
+  for (const AssociationRow& row : result.associations) {
+    const auto detection = gt.detections.find(row.detection);
+    if (detection == gt.detections.end()) {
+      return Status::Error(At(result.associations_path, row.line) +
+                           ": detection " + Quoted(row.detection) +
+                           " is not in " + gt.objects_path);
+    }
+    if (map_objects.count(row.object) == 0) {
+      return Status::Error(At(result.associations_path, row.line) +
+                           ": map object " + std::to_string(row.object) +
+                           " is not in " + result.objects_path);
+    }
+    associated.insert(row.detection);
+    ObjectEvaluation& o = e.objects[gt_index.at(detection->second)];
+    ++o.detections;
+    ++o.detections_per_map_object[row.object];
+    const bool correct = row.symmetry == o.symmetry;
+    o.categorized_correctly += correct ? 1 : 0;
+    e.categorized_correctly += correct ? 1 : 0;
+    ++e.detections;
+    ++e.confusion[static_cast<int>(o.symmetry)][static_cast<int>(row.symmetry)];
+  }
+  for (const auto& [id, object] : gt.detections) {
+    (void)object;
+    if (associated.count(id) == 0) {
+      return Status::Error(gt.objects_path + ": detection " + Quoted(id) +
+                           " has no row in " + result.associations_path);
+    }
+  }
+  e.categorization_accuracy =
+      e.detections > 0
+          ? static_cast<double>(e.categorized_correctly) / e.detections
+          : kNaN;
+
+  // Per ground-truth object.
+  for (std::size_t i = 0; i < gt.objects.size(); ++i) {
+    const GroundTruthObject& g = gt.objects[i];
+    ObjectEvaluation& o = e.objects[i];
+    o.map_objects = static_cast<int>(o.detections_per_map_object.size());
+    o.translation_error = kNaN;
+    o.axis_error_deg = kNaN;
+    o.rotation_error_deg = kNaN;
+    o.categorization_accuracy =
+        o.detections > 0
+            ? static_cast<double>(o.categorized_correctly) / o.detections
+            : kNaN;
+    int most = 0;
+    for (const auto& [id, count] : o.detections_per_map_object) {
+      if (count > most) {  // ascending ids: ties keep the lowest
+        most = count;
+        o.main_object = id;
+      }
+    }
+    if (o.main_object < 0) continue;
+    const MapObjectEstimate& m = *map_objects.at(o.main_object);
+    o.main_object_symmetry = m.symmetry;
+    o.translation_error = (m.t_wo - g.T_wo.t).norm();
+    if (g.symmetry != SymmetryType::kAsymmetric) {
+      const Eigen::Vector3d a_w =
+          m.symmetry != SymmetryType::kAsymmetric
+              ? m.axis_w
+              : Eigen::Vector3d(m.poses[0].q * g.axis_o);
+      o.axis_error_deg = kRadToDeg * LineAngle(a_w, g.axis_w);
+    }
+    if (g.symmetry == SymmetryType::kContinuous) {
+      o.rotation_error_deg = o.axis_error_deg;
+    } else {
+      const int n = g.symmetry == SymmetryType::kDiscrete ? g.order : 1;
+      double best = kPi;
+      for (int k = 0; k < n; ++k) {
+        const Eigen::Quaterniond q_k =
+            g.symmetry == SymmetryType::kDiscrete
+                ? g.T_wo.q * Eigen::Quaterniond(
+                                 Eigen::AngleAxisd(kTwoPi * k / n, g.axis_o))
+                : g.T_wo.q;
+        for (const Rigid3d& T : m.poses) {
+          best = std::min(best, AngleBetween(q_k, T.q));
+        }
+      }
+      o.rotation_error_deg = kRadToDeg * best;
+    }
+  }
+  *evaluation = std::move(e);
+  return Status::Ok();
+}
+
+Status Evaluate(const std::string& gt_dir,
+                const std::string& result_dir,
+                Evaluation* evaluation) {
+  GroundTruth gt;
+  Status status = ReadGroundTruth(gt_dir, &gt);
+  if (!status.ok()) return status;
+  ReplayOutputs result;
+  status = ReadReplayOutputs(result_dir, &result);
+  if (!status.ok()) return status;
+  return EvaluateReplay(gt, result, evaluation);
+}
+
+std::string FormatEvaluationTable(const Evaluation& e) {
+  std::ostringstream out;
+  out << "| keyframes | position RMSE [m] | rotation RMSE [deg] | max position "
+         "error [m] | map objects | categorisation |\n"
+      << "|---:|---:|---:|---:|---:|---:|\n"
+      << "| " << e.keyframes << " | " << Fixed(e.position_rmse, 3) << " | "
+      << Fixed(e.rotation_rmse_deg, 2) << " | "
+      << Fixed(e.max_position_error, 3) << " | " << e.map_objects << " | "
+      << Percent(e.categorized_correctly, e.detections) << " |\n\n";
+  out << "| GT object | class | symmetry | detections | map objects | main "
+         "object | translation error [m] | axis error [deg] | rotation error "
+         "[deg] | categorisation |\n"
+      << "|---:|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const ObjectEvaluation& o : e.objects) {
+    std::string symmetry = ToString(o.symmetry);
+    if (o.symmetry == SymmetryType::kDiscrete) {
+      symmetry += " (" + std::to_string(o.order) + ")";
+    }
+    out << "| " << o.gt_id << " | " << o.class_name << " | " << symmetry
+        << " | " << o.detections << " | " << o.map_objects << " | "
+        << (o.main_object >= 0 ? std::to_string(o.main_object) + " (" +
+                                     ToString(o.main_object_symmetry) + ")"
+                               : std::string("none"))
+        << " | " << Fixed(o.translation_error, 3) << " | "
+        << Fixed(o.axis_error_deg, 2) << " | " << Fixed(o.rotation_error_deg, 2)
+        << " | " << Percent(o.categorized_correctly, o.detections) << " |\n";
+  }
+  out << "\n| GT type \\ categorised | asymmetric | discrete | continuous "
+         "|\n"
+      << "|---|---:|---:|---:|\n";
+  for (int g = 0; g < 3; ++g) {
+    out << "| " << ToString(static_cast<SymmetryType>(g));
+    for (int c = 0; c < 3; ++c) out << " | " << e.confusion[g][c];
+    out << " |\n";
+  }
+  return out.str();
+}
+
+std::string FormatEvaluationJson(const Evaluation& e) {
+  OrderedJson objects = OrderedJson::array();
+  for (const ObjectEvaluation& o : e.objects) {
+    OrderedJson per_map_object = OrderedJson::object();
+    for (const auto& [id, count] : o.detections_per_map_object) {
+      per_map_object[std::to_string(id)] = count;
+    }
+    objects.push_back(OrderedJson{
+        {"gt_id", o.gt_id},
+        {"class", o.class_name},
+        {"symmetry", ToString(o.symmetry)},
+        {"order", o.order},
+        {"detections", o.detections},
+        {"map_objects", o.map_objects},
+        {"detections_per_map_object", std::move(per_map_object)},
+        {"main_object",
+         o.main_object >= 0 ? OrderedJson(o.main_object) : OrderedJson()},
+        {"main_object_symmetry",
+         o.main_object >= 0 ? OrderedJson(ToString(o.main_object_symmetry))
+                            : OrderedJson()},
+        {"translation_error", Number(o.translation_error)},
+        {"axis_error_deg", Number(o.axis_error_deg)},
+        {"rotation_error_deg", Number(o.rotation_error_deg)},
+        {"categorized_correctly", o.categorized_correctly},
+        {"categorization_accuracy", Number(o.categorization_accuracy)}});
+  }
+  OrderedJson confusion = OrderedJson::object();
+  for (int g = 0; g < 3; ++g) {
+    OrderedJson row = OrderedJson::object();
+    for (int c = 0; c < 3; ++c) {
+      row[ToString(static_cast<SymmetryType>(c))] = e.confusion[g][c];
+    }
+    confusion[ToString(static_cast<SymmetryType>(g))] = std::move(row);
+  }
+  const OrderedJson json{
+      {"keyframes", e.keyframes},
+      {"position_rmse", Number(e.position_rmse)},
+      {"rotation_rmse_deg", Number(e.rotation_rmse_deg)},
+      {"max_position_error", Number(e.max_position_error)},
+      {"map_objects", e.map_objects},
+      {"max_fragmentation", e.MaxFragmentation()},
+      {"detections", e.detections},
+      {"categorized_correctly", e.categorized_correctly},
+      {"categorization_accuracy", Number(e.categorization_accuracy)},
+      {"confusion", std::move(confusion)},
+      {"objects", std::move(objects)}};
+  return json.dump(2) + "\n";
+}
+
+}  // namespace symba

@@ -376,11 +376,10 @@ Status OptimizePoseGraph(const PoseGraphSolveOptions& options,
     }
     const auto pose = graph->poses.find(id);
     if (pose == graph->poses.end()) {
-      return Status::Error("pose graph: vertex " + std::to_string(id) +
-                           " does not exist");
+      return Status::Error("vertex " + std::to_string(id) + " does not exist");
     }
     const Status check =
-        CheckPose(pose->second, "pose graph: vertex " + std::to_string(id));
+        CheckPose(pose->second, "vertex " + std::to_string(id));
     if (!check.ok()) return check;
     *index = static_cast<int>(ids.size());
     index_of.emplace(id, *index);
@@ -407,8 +406,8 @@ Status OptimizePoseGraph(const PoseGraphSolveOptions& options,
     if (!s.ok()) return Status::Error(what + ": " + s.message());
     s = add_vertex(edge.to, &p.b);
     if (!s.ok()) return Status::Error(what + ": " + s.message());
-    if (p.a == p.b) return Status::Error(what + ": an edge to itself");
-    s = CheckPose(edge.T_ab, what);
+    if (p.a == p.b) return Status::Error(what + ": from a vertex to itself");
+    s = CheckPose(edge.T_ab, what + ": measurement");
     if (!s.ok()) return s;
     if (!edge.information.allFinite()) {
       return Status::Error(what + ": information is not finite");
@@ -505,8 +504,10 @@ Status OptimizePoseGraph(const PoseGraphSolveOptions& options,
   ceres::Solve(solver_options, &problem, &ceres_summary);
   summary->initial_cost = ceres_summary.initial_cost;
   summary->final_cost = ceres_summary.final_cost;
-  summary->iterations =
-      ceres_summary.num_successful_steps + ceres_summary.num_unsuccessful_steps;
+  // Ceres records the initial state as iteration 0.
+  summary->iterations = ceres_summary.iterations.empty()
+                            ? 0
+                            : ceres_summary.iterations.back().iteration;
   summary->converged = ceres_summary.termination_type == ceres::CONVERGENCE;
   summary->seconds = ceres_summary.total_time_in_seconds;
   summary->message = ceres_summary.message;
@@ -514,7 +515,7 @@ Status OptimizePoseGraph(const PoseGraphSolveOptions& options,
     return Status::Error("pose graph: Ceres failed: " + ceres_summary.message);
   }
   for (int i = 0; i < n; ++i) {
-    graph->poses[ids[i]] = Normalized(states[i]);
+    if (!constant[i]) graph->poses[ids[i]] = Normalized(states[i]);
   }
   return Status::Ok();
 }

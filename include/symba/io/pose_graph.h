@@ -90,7 +90,8 @@ struct PoseGraphSolveOptions {
 struct PoseGraphSolveSummary {
   double initial_cost = 0.0;  // 1/2 sum of r^T r, as Ceres reports it
   double final_cost = 0.0;
-  int iterations = 0;      // Levenberg-Marquardt steps, accepted or not
+  int iterations = 0;      // Levenberg-Marquardt iterations (accepted or
+                           // not), not counting Ceres's iteration 0
   bool converged = false;  // Ceres terminated with CONVERGENCE
   double seconds = 0.0;    // Ceres's total solve time
   int num_vertices = 0;    // vertices with at least one edge
@@ -108,7 +109,8 @@ struct PoseGraphSolveSummary {
 // Returns an error, leaving *graph unchanged, if the graph is invalid (an
 // edge to a missing vertex or to itself, a non-finite number, a quaternion
 // not unit within 1e-3, an information that is not positive definite) or if
-// Ceres fails. Otherwise writes the optimised poses back, also when the
+// Ceres fails. Otherwise writes the optimised poses of the free vertices
+// back (held vertices keep their stored values bit for bit), also when the
 // iteration limit is reached (summary->converged is false then).
 Status OptimizePoseGraph(const PoseGraphSolveOptions& options,
                          PoseGraph* graph,

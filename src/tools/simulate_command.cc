@@ -86,6 +86,17 @@ std::string SceneHelp() {
   return help;
 }
 
+// Adds the degree flag `name` of f->degree_flags.
+void AddDegreeOption(CLI::App* cmd, SimulateFlags* f, const std::string& name) {
+  for (DegreeFlag& flag : f->degree_flags) {
+    if (name == flag.name) {
+      cmd->add_option(flag.name, flag.degrees, flag.help)
+          ->capture_default_str();
+      return;
+    }
+  }
+}
+
 CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
   CLI::App* cmd = app->add_subcommand(
       "simulate",
@@ -119,16 +130,25 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
                   o.look_at_height,
                   "height of the point the camera looks at (m)")
       ->capture_default_str();
+  AddDegreeOption(cmd, f, "--start-angle");
   cmd->add_option("--seconds-per-keyframe",
                   o.seconds_per_keyframe,
                   "time between keyframes (s)")
       ->capture_default_str();
+
+  // Feature-rich and featureless sides.
+  AddDegreeOption(cmd, f, "--rich-arc-start");
+  AddDegreeOption(cmd, f, "--rich-arc");
 
   // Front end.
   cmd->add_option("--rich-sigma-t",
                   o.rich_sigma_t,
                   "front-end translation noise per rich keyframe (m per axis)")
       ->capture_default_str();
+  AddDegreeOption(cmd, f, "--rich-sigma-r");
+  AddDegreeOption(cmd, f, "--yaw-bias");
+  AddDegreeOption(cmd, f, "--yaw-noise");
+  AddDegreeOption(cmd, f, "--featureless-sigma-r");
   cmd->add_option(
          "--featureless-sigma-t",
          o.featureless_sigma_t,
@@ -187,6 +207,7 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
   cmd->add_option("--hypotheses", o.num_hypotheses, "hypotheses per detection")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  AddDegreeOption(cmd, f, "--rotation-sigma");
   cmd->add_option("--translation-sigma",
                   o.translation_sigma,
                   "hypothesis translation noise (m per axis)")
@@ -209,6 +230,8 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
                   "probability that the highest-weight mode stays that of "
                   "the previous view")
       ->capture_default_str();
+  AddDegreeOption(cmd, f, "--continuous-arc");
+  AddDegreeOption(cmd, f, "--continuous-dominant-spread");
   cmd->add_option("--dominant-weight",
                   o.dominant_weight,
                   "weight of the dominant mode's hypotheses")
@@ -239,9 +262,6 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
                   "(true/false)")
       ->capture_default_str();
 
-  for (DegreeFlag& flag : f->degree_flags) {
-    cmd->add_option(flag.name, flag.degrees, flag.help)->capture_default_str();
-  }
   cmd->add_flag("--quiet", f->quiet, "no summary on stdout");
   return cmd;
 }

@@ -1,0 +1,45 @@
+# Runs `symba simulate` as a user would: the three files appear, the ground
+# truth has one trajectory line per keyframe and the documented JSON shape,
+# and an unknown scene fails without leaving anything behind.
+# Inputs: SYMBA (the binary), WORK_DIR.
+cmake_minimum_required(VERSION 3.16)  # quoted strings are not variables
+file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR})
+set(out ${WORK_DIR}/out)
+execute_process(COMMAND ${SYMBA} simulate --scene disc --out ${out} --seed 3
+  RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "symba simulate failed (${rc}): ${stderr}")
+endif()
+foreach(name log.jsonl gt_trajectory.tum gt_objects.json)
+  if(NOT EXISTS ${out}/${name})
+    message(FATAL_ERROR "missing ${name}")
+  endif()
+endforeach()
+file(STRINGS ${out}/gt_trajectory.tum lines)
+list(LENGTH lines n)
+if(NOT n EQUAL 72)
+  message(FATAL_ERROR "gt_trajectory.tum has ${n} lines, expected 72")
+endif()
+file(STRINGS ${out}/log.jsonl log_lines)
+list(LENGTH log_lines n)
+if(NOT n EQUAL 73)
+  message(FATAL_ERROR "log.jsonl has ${n} lines, expected a header and 72")
+endif()
+file(READ ${out}/gt_objects.json gt)
+if(NOT gt MATCHES "^{\"objects\": \\[" OR
+   NOT gt MATCHES "\"class\": \"table\", \"symmetry\": \"discrete\", \"order\": 2" OR
+   NOT gt MATCHES "\"detections\": {\n  \"[0-9]+/0\": 0")
+  message(FATAL_ERROR "gt_objects.json: unexpected content: ${gt}")
+endif()
+
+# An unknown scene is a usage error and writes nothing.
+execute_process(COMMAND ${SYMBA} simulate --scene kitchen --out ${WORK_DIR}/bad
+  RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr)
+if(rc EQUAL 0 OR EXISTS ${WORK_DIR}/bad)
+  message(FATAL_ERROR "an unknown scene must fail and write nothing")
+endif()
+file(GLOB entries RELATIVE ${WORK_DIR} ${WORK_DIR}/* ${WORK_DIR}/.*)
+if(NOT entries STREQUAL "out")
+  message(FATAL_ERROR "stray files beside the output: ${entries}")
+endif()

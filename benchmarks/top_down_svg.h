@@ -1,0 +1,31 @@
+// A top-down (x-y) picture of one replay as a hand-written SVG: the true and
+// the estimated keyframe trajectories, the ground-truth objects (hollow
+// circles) and the map objects (filled diamonds), each with its symmetry
+// drawn in the plane:
+//   - a symmetry axis that is not vertical as a line through the object,
+//     its half-length proportional to the axis' horizontal component;
+//   - discrete angles (and the heading of asymmetric objects) as short ticks
+//     along R_wo_i e_o, e_o the unit vector of the object frame
+//     perpendicular to the axis closest to object x (object x itself when
+//     asymmetric);
+//   - continuous objects with a dashed ring.
+// A legend and a scale bar; the world's +y points up in the picture.
+#ifndef SYMBA_BENCHMARKS_TOP_DOWN_SVG_H_
+#define SYMBA_BENCHMARKS_TOP_DOWN_SVG_H_
+
+#include <string>
+
+#include "symba/evaluation/evaluate.h"
+
+namespace symba::bench {
+
+// `title` is the first line of the picture; `color` (an SVG colour) is the
+// estimate's.
+std::string TopDownSvg(const GroundTruth& gt,
+                       const ReplayOutputs& result,
+                       const std::string& title,
+                       const std::string& color);
+
+}  // namespace symba::bench
+
+#endif  // SYMBA_BENCHMARKS_TOP_DOWN_SVG_H_

@@ -340,6 +340,25 @@ TEST(LogReader, ReadsTheDocumentedExample) {
   EXPECT_EQ(k2.points[0].uv, Eigen::Vector2d(320.0, 210.0));
 }
 
+std::string FileText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// docs/log-format.md shows tests/data/example.jsonl in its ```jsonl block.
+TEST(LogReader, DocumentedExampleIsTheTestFile) {
+  const std::string doc = FileText(kDataDir + "/../../docs/log-format.md");
+  const std::string open = "```jsonl\n";
+  const std::size_t begin = doc.find(open);
+  ASSERT_NE(begin, std::string::npos);
+  const std::size_t end = doc.find("```\n", begin + open.size());
+  ASSERT_NE(end, std::string::npos);
+  EXPECT_EQ(doc.substr(begin + open.size(), end - begin - open.size()),
+            FileText(kDataDir + "/example.jsonl"));
+}
+
 TEST(LogReader, ProjectsNearlyOrthonormalRotationMatrices) {
   const Eigen::Matrix3d R =
       Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized())

@@ -981,6 +981,18 @@ Status Backend::Create(const BackendOptions& options,
           "camera intrinsics: fx, fy must be positive, all finite");
     }
   }
+  // Categorize's own checks on every prior (a one-hypothesis detection
+  // always passes the rest): a bad prior must fail here, not in AddKeyframe
+  // after the keyframe was added.
+  for (const auto& [class_name, prior] : class_priors) {
+    CategorizedDetection scratch;
+    status = Categorize(
+        {PoseHypothesis{}}, options.categorization, &prior, &scratch);
+    if (!status.ok()) {
+      return Status::Error("class prior \"" + class_name +
+                           "\": " + status.message());
+    }
+  }
   backend->reset(
       new Backend(std::make_unique<Impl>(options, intrinsics, class_priors)));
   return Status::Ok();

@@ -1,12 +1,13 @@
 // Acceptance tests of the backend (project issue 4) on scripted sequences
 // (tests/test_support/scripted_sequence.h): a camera orbits symmetric
 // objects; the front end is accurate on the feature-rich half of the orbit
-// and drifts in yaw on the featureless half. symba must keep one map object
-// per real object and pull the trajectory back; the baselines (sh, mh), which
-// associate by the full 6-DoF pose, fragment when the detector's modes flip.
+// and drifts in yaw (1.5 deg per keyframe) on the featureless half. symba
+// must keep one map object per real object and pull the trajectory back; the
+// baselines (sh, mh), which associate by the full 6-DoF pose, fragment when
+// the detector's modes flip.
 //
-// Where the position tolerances come from (measured over seeds 1-8 of these
-// sequences with the default BackendOptions, RelWithDebInfo):
+// Where the tolerances come from (measured over seeds 1-12 of these
+// sequences with the default BackendOptions):
 //   - rich half: reprojections carry no scale (a point's depth only
 //     initialises it) and the front end's relative motion enters with the
 //     default 5 cm / 0.02 rad although it is accurate to 0.5 cm here, so
@@ -15,10 +16,18 @@
 //   - featureless half: one detection fixes the camera in the object frame
 //     to about |t_co| * sigma_r / 2 = 2.8 m * 3 deg / 2 = 7 cm per axis (the
 //     SE(3) logarithm of Eq. 14 halves the lever arm), on top of the error of
-//     the object itself, which inherits the rich half's drift.
-// symba then reaches 0.06-0.15 m RMSE and 0.12-0.29 m max; the tests allow
-// RMSE < 0.18 m and max < 0.35 m, against a front end at about 0.5 m RMSE
-// and 1.4 m max (asserted too, so the test cannot pass by a tame sequence).
+//     the object itself, which inherits the rich half's drift;
+//   - camera rotation: a camera turned about its own centre leaves the
+//     translation rows of Eq. 14 unchanged (its position in the object frame
+//     does not move), so only the rotation rows (sigma_r = 0.05 rad) resist
+//     the biased front end (0.02 rad, 1.5 deg per keyframe), and keyframes
+//     leave the window before the pull has settled: a few degrees remain.
+// symba reaches 0.06-0.19 m RMSE and 0.10-0.38 m max in position, 1.2-4.5
+// deg RMSE and 2.5-10.5 deg max in rotation; the tests allow 0.20 m / 0.40 m
+// and 5 deg / 12 deg, against a front end at about 0.5 m / 1.4 m and 13 deg
+// / 30 deg (asserted too, so the tests cannot pass on a tame sequence). The
+// structural assertions (object counts, types, modes, assignments) hold on
+// every one of those seeds.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -48,20 +57,26 @@ using testing::ScriptedObject;
 using testing::ScriptedSequence;
 using testing::ScriptedSequenceSpec;
 
-constexpr double kRmseTolerance = 0.18;            // m, see the top
-constexpr double kMaxErrorTolerance = 0.35;        // m
-constexpr double kFrontendMinRmse = 0.35;          // m: the drift is real
+constexpr double kRmseTolerance = 0.20;      // m, see the top
+constexpr double kMaxErrorTolerance = 0.40;  // m
+constexpr double kRotationRmseTolerance = 5.0 * kDegree;
+constexpr double kRotationMaxTolerance = 12.0 * kDegree;
+constexpr double kFrontendMinRmse = 0.35;  // m: the drift is real
+constexpr double kFrontendMinRotationRmse = 8.0 * kDegree;
 constexpr double kObjectPositionTolerance = 0.15;  // m: the rich half's drift
 // Axis and mode rotations: each is averaged over tens of detections of 3 deg
-// noise per axis, but carries the camera rotation error of the views that
-// fixed it (about 1 deg on the rich half); 5 deg is well clear of both and
-// well below the 120 / 90 deg between modes.
+// noise per axis, but carries the camera rotation errors of the views that
+// fixed it (about 1 deg on the rich half, a few on the featureless half): 5
+// deg for the axis, 8 deg for a mode's full rotation (axis and twist), both
+// far below the 90-180 deg between modes.
 constexpr double kAxisTolerance = 5.0 * kDegree;
 constexpr double kModeTolerance = 8.0 * kDegree;
 
 struct PositionError {
-  double rmse = 0.0;
-  double max = 0.0;
+  double rmse = 0.0;           // m
+  double max = 0.0;            // m
+  double rotation_rmse = 0.0;  // rad
+  double rotation_max = 0.0;   // rad
 };
 
 PositionError Positions(const std::vector<Rigid3d>& truth,
@@ -71,8 +86,13 @@ PositionError Positions(const std::vector<Rigid3d>& truth,
     const double d = (truth[k].t - estimate[k].t).norm();
     e.rmse += d * d;
     e.max = std::max(e.max, d);
+    const double r = truth[k].q.angularDistance(estimate[k].q);
+    e.rotation_rmse += r * r;
+    e.rotation_max = std::max(e.rotation_max, r);
   }
   e.rmse = std::sqrt(e.rmse / static_cast<double>(truth.size()));
+  e.rotation_rmse =
+      std::sqrt(e.rotation_rmse / static_cast<double>(truth.size()));
   return e;
 }
 
@@ -149,6 +169,7 @@ void ExpectSymbaTracksBaselinesFragment(const ScriptedSequenceSpec& spec,
   const ScriptedObject& truth = spec.objects.front();
   const PositionError frontend = Positions(seq.T_wc_true, FrontendPoses(seq));
   EXPECT_GT(frontend.rmse, kFrontendMinRmse);
+  EXPECT_GT(frontend.rotation_rmse, kFrontendMinRotationRmse);
 
   std::map<Method, size_t> num_objects;
   for (Method method :
@@ -163,15 +184,20 @@ void ExpectSymbaTracksBaselinesFragment(const ScriptedSequenceSpec& spec,
     const PositionError error =
         Positions(seq.T_wc_true, EstimatedPoses(*backend));
     std::printf(
-        "[ %s ] %-5s objects %zu, keyframe RMSE %.3f m, max %.3f m "
-        "(front end %.3f / %.3f)\n",
+        "[ %s ] %-5s objects %zu, keyframe RMSE %.3f m, max %.3f m, "
+        "rotation RMSE %.1f deg, max %.1f deg (front end %.3f m / %.3f m, "
+        "%.1f deg / %.1f deg)\n",
         name,
         MethodName(method),
         objects.size(),
         error.rmse,
         error.max,
+        error.rotation_rmse / kDegree,
+        error.rotation_max / kDegree,
         frontend.rmse,
-        frontend.max);
+        frontend.max,
+        frontend.rotation_rmse / kDegree,
+        frontend.rotation_max / kDegree);
     if (method != Method::kSymba) {
       EXPECT_GT(objects.size(), 1u);
       continue;
@@ -201,6 +227,8 @@ void ExpectSymbaTracksBaselinesFragment(const ScriptedSequenceSpec& spec,
     }
     EXPECT_LT(error.rmse, kRmseTolerance);
     EXPECT_LT(error.max, kMaxErrorTolerance);
+    EXPECT_LT(error.rotation_rmse, kRotationRmseTolerance);
+    EXPECT_LT(error.rotation_max, kRotationMaxTolerance);
   }
 }
 
@@ -251,8 +279,9 @@ TEST(BackendSequences, RoundTableOneObjectAndTrajectoryWithinNoise) {
 
 // With the yaw-drifting front end poses alone, the azimuth of the cameras
 // about the round table is not observable, but their distance to its axis
-// and their height are: those must stay within the noise. The tolerance is
-// the one above; the azimuthal error is reported, not asserted.
+// and their height are: those must stay within the noise (measured 0.035-0.08
+// m RMSE and 0.07-0.14 m max over seeds 1-12; 0.12 m and 0.20 m are
+// allowed). The azimuthal error is reported, not asserted.
 TEST(BackendSequences, RoundTableFixesWhatItObserves) {
   const ScriptedSequenceSpec spec =
       OrbitSpec(Table(SymmetryType::kContinuous, 0));
@@ -281,14 +310,17 @@ TEST(BackendSequences, RoundTableFixesWhatItObserves) {
       rmse,
       max_error,
       full.rmse);
-  EXPECT_LT(rmse, kRmseTolerance);
-  EXPECT_LT(max_error, kMaxErrorTolerance);
+  EXPECT_LT(rmse, 0.12);
+  EXPECT_LT(max_error, 0.20);
 }
 
 // ---------------------------------------------------------------------------
 // 3. Two round tables of one class, 1.2 m apart: two objects, never merged,
 // every detection with the table that produced it. Two continuous objects
-// together fix the azimuth, so the plain drifting front end is used.
+// together fix the azimuth, so the plain drifting front end is used. They
+// fix it less firmly than a discrete object (through two positions 1.2 m
+// apart, each known to a few cm): measured 0.10-0.26 m RMSE and 0.21-0.47 m
+// max over seeds 1-12, hence 0.30 m and 0.55 m here.
 
 TEST(BackendSequences, TwoRoundTablesStayApart) {
   ScriptedSequenceSpec spec;
@@ -333,8 +365,8 @@ TEST(BackendSequences, TwoRoundTablesStayApart) {
   std::printf("[ two round tables ] keyframe RMSE %.3f m, max %.3f m\n",
               error.rmse,
               error.max);
-  EXPECT_LT(error.rmse, kRmseTolerance);
-  EXPECT_LT(error.max, kMaxErrorTolerance);
+  EXPECT_LT(error.rmse, 0.30);
+  EXPECT_LT(error.max, 0.55);
 }
 
 // ---------------------------------------------------------------------------
@@ -521,16 +553,18 @@ TEST(BackendSequences, BatchAndWindowAgreeWhenTheWindowHoldsEverything) {
 // 285, both converged). With the hypotheses of a mode nearly identical
 // (0.05 deg, 0.5 mm) there is one basin per mode, and the paths agree to
 // the solver tolerance: Ceres stops when the relative cost decrease falls
-// below 1e-6 (function_tolerance), which on this problem (cost ~280 over
-// ~700 residuals) leaves the poses within about a millimetre of each other
-// (measured 0.5 mm, 0.014 deg); 2 mm and 0.05 deg are allowed.
+// below 1e-6 (function_tolerance), i.e. by 3e-4 on a cost of ~280; along
+// the flattest direction of this problem (the scale, sigma ~5 cm from the
+// front end's 5 cm) that leaves sqrt(2 * 3e-4) * 5 cm ~ 1 mm per solve, and
+// the two paths stop on opposite sides (measured up to 3.4 mm and 0.015 deg
+// over seeds 1-12); 5 mm and 0.05 deg are allowed.
 TEST(BackendSequences, IncrementalWindowReachesTheBatchOptimum) {
   const ScriptedSequence seq = ShortSequence(0.05 * kDegree, 0.0005);
   const std::vector<Rigid3d> batch = SolveShortSequence(seq, false, true);
   const std::vector<Rigid3d> incremental = SolveShortSequence(seq, true, false);
   ASSERT_EQ(batch.size(), incremental.size());
   for (size_t k = 0; k < batch.size(); ++k) {
-    EXPECT_LT((batch[k].t - incremental[k].t).norm(), 2e-3) << k;
+    EXPECT_LT((batch[k].t - incremental[k].t).norm(), 5e-3) << k;
     EXPECT_LT(batch[k].q.angularDistance(incremental[k].q), 0.05 * kDegree)
         << k;
   }
@@ -647,6 +681,37 @@ TEST(BackendInput, OptionsAreValidated) {
   options = BackendOptions();
   options.gate_position = -1.0;
   EXPECT_THAT(options.Validate().message(), HasSubstr("gate_position"));
+}
+
+// A class prior Categorize would reject must be rejected by Create: found
+// by this test, AddKeyframe used to add the keyframe and only then fail on
+// the detection's categorisation, leaving a half-added keyframe.
+TEST(BackendInput, InvalidClassPriorsAreRejectedAtCreate) {
+  ClassPrior bad_order;
+  bad_order.symmetry = SymmetryType::kDiscrete;
+  bad_order.order = 1;
+  ClassPrior bad_axis;
+  bad_axis.symmetry = SymmetryType::kContinuous;
+  bad_axis.axis_o = Eigen::Vector3d(0.0, std::nan(""), 1.0);
+  for (const ClassPrior& prior : {bad_order, bad_axis}) {
+    std::unique_ptr<Backend> backend;
+    const Status status = Backend::Create(
+        BackendOptions(), std::nullopt, {{"table", prior}}, &backend);
+    EXPECT_FALSE(status.ok());
+    EXPECT_THAT(status.message(), HasSubstr("table"));
+    EXPECT_EQ(backend, nullptr);
+  }
+  // A valid prior is accepted and used.
+  ClassPrior good;
+  good.symmetry = SymmetryType::kDiscrete;
+  good.order = 2;
+  good.axis_o = Eigen::Vector3d::UnitZ();
+  std::unique_ptr<Backend> backend;
+  ASSERT_TRUE(Backend::Create(
+                  BackendOptions(), std::nullopt, {{"table", good}}, &backend)
+                  .ok());
+  EXPECT_TRUE(backend->AddKeyframe(ValidKeyframe(1)).ok());
+  EXPECT_EQ(backend->Keyframes().size(), 1u);
 }
 
 // The generator is deterministic for a seed (the tests above rely on it).

@@ -14,6 +14,7 @@
 #include "symba/factors/asymmetric_object_edge.h"
 #include "symba/factors/continuous_object_edge.h"
 #include "symba/factors/discrete_object_edge.h"
+#include "symba/factors/point_depth_factor.h"
 #include "symba/factors/relative_pose_factor.h"
 #include "symba/factors/reprojection_factor.h"
 #include "symba/geometry/so3.h"
@@ -354,6 +355,16 @@ void Backend::Impl::AddPointObservations(int k, const KeyframeInput& input) {
     record.keyframe = k;
     record.point = it->second;
     AddFactor(std::move(record));
+    if (obs.depth && options_.point_depth_sigma_relative > 0.0) {
+      FactorRecord depth;
+      depth.cost.reset(PointDepthFactor::Create(
+          *obs.depth, options_.point_depth_sigma_relative * *obs.depth));
+      depth.loss = point_loss_.get();
+      depth.blocks = {kf.q, kf.t, points_[it->second]->p};
+      depth.keyframe = k;
+      depth.point = it->second;
+      AddFactor(std::move(depth));
+    }
   }
 }
 

@@ -88,6 +88,11 @@ Status BackendOptions::Validate() const {
                            " must be positive and finite");
     }
   }
+  if (!std::isfinite(point_depth_sigma_relative) ||
+      point_depth_sigma_relative < 0.0) {
+    return Status::Error(
+        "point_depth_sigma_relative must be finite and >= 0 (0 disables)");
+  }
   if (!std::isfinite(gamma) || gamma < 0.0) {
     return Status::Error("gamma must be finite and >= 0");
   }

@@ -109,6 +109,10 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
   cmd->add_option(
          "--point-sigma", b.point_sigma_px, "reprojection noise (pixels)")
       ->capture_default_str();
+  cmd->add_option("--point-depth-sigma",
+                  b.point_depth_sigma_relative,
+                  "depth noise as a fraction of the depth (0: ignore depth)")
+      ->capture_default_str();
   cmd->add_option(
          "--gate-position", b.gate_position, "association gate on position (m)")
       ->capture_default_str();

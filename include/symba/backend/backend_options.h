@@ -58,6 +58,9 @@ struct BackendOptions {
   // Reprojection noise (pixels) and its Huber loss scale (whitened).
   double point_sigma_px = 1.0;
   double point_loss_scale = 2.0;
+  // A point observation with a depth also constrains the depth (RGB-D),
+  // with sigma = point_depth_sigma_relative * depth (m). 0 disables it.
+  double point_depth_sigma_relative = 0.01;
 
   // Data association gates (method notes Sec. 5).
   double gate_position = 0.5;                 // m

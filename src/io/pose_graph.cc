@@ -124,8 +124,9 @@ class LineParser {
   int line_;
 };
 
-// Reads x y z qx qy qz qw starting at fields[first] into *pose; the
-// quaternion is normalised if its norm is within tolerance of 1.
+// Reads the seven fields x y z qx qy qz qw into *pose; `first` is the
+// 0-based index of x counted after the tag. The quaternion is normalised if
+// its norm is within tolerance of 1.
 Status ParsePose(const LineParser& parser,
                  const std::vector<std::string_view>& fields,
                  int first,

@@ -106,6 +106,34 @@ inline Evaluation EvaluateWithJacobians(
   return e;
 }
 
+// Whether two evaluations agree: residuals and each Jacobian block within
+// relative_precision * max(1, max |entry of b|) of that block; describes the
+// differences in *message.
+inline bool EvaluationsAgree(const Evaluation& a,
+                             const Evaluation& b,
+                             double relative_precision,
+                             std::string* message) {
+  if (!a.ok || !b.ok || a.jacobians.size() != b.jacobians.size()) {
+    *message = "an evaluation failed";
+    return false;
+  }
+  const auto agree =
+      [&](const auto& x, const auto& y, const std::string& what) {
+        const double scale = std::max(1.0, y.cwiseAbs().maxCoeff());
+        const double error = (x - y).cwiseAbs().maxCoeff();
+        if (error <= relative_precision * scale) return true;
+        *message += what + ": max difference " + std::to_string(error) +
+                    " at scale " + std::to_string(scale) + "\n";
+        return false;
+      };
+  bool ok = agree(a.residuals, b.residuals, "residuals");
+  for (size_t k = 0; k < a.jacobians.size(); ++k) {
+    ok = agree(a.jacobians[k], b.jacobians[k], "block " + std::to_string(k)) &&
+         ok;
+  }
+  return ok;
+}
+
 }  // namespace symba::testing
 
 #endif  // SYMBA_TESTS_FACTORS_FACTOR_TEST_UTIL_H_

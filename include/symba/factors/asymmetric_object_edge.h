@@ -10,7 +10,9 @@
 //   t_wc  3  camera position in the world (m)
 //   q_wo  4  object rotation, Eigen order [x, y, z, w]
 //   t_wo  3  object position in the world (m)
-// The edge owns copies of its components.
+// The edge owns copies of its components. The winner's Jacobians are
+// hand-written (AsymmetricComponentCost); ComponentFunctor is the same
+// residual as a template.
 #ifndef SYMBA_FACTORS_ASYMMETRIC_OBJECT_EDGE_H_
 #define SYMBA_FACTORS_ASYMMETRIC_OBJECT_EDGE_H_
 
@@ -18,7 +20,7 @@
 #include <utility>
 #include <vector>
 
-#include <ceres/autodiff_cost_function.h>
+#include <ceres/sized_cost_function.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -43,13 +45,38 @@ Rigid3<T> CameraInObject(const T* q_wc,
   return T_wo.Inverse() * T_wc;
 }
 
+// The winner's residual with hand-written Jacobians (PoseComponentResidual,
+// whose blocks are this edge's).
+class AsymmetricComponentCost final
+    : public ceres::SizedCostFunction<6, 4, 3, 4, 3> {
+ public:
+  explicit AsymmetricComponentCost(const PoseComponent& component)
+      : residual_(component) {}
+
+  bool Evaluate(double const* const* parameters,
+                double* residuals,
+                double** jacobians) const override {
+    residual_.Evaluate(parameters[0],
+                       parameters[1],
+                       parameters[2],
+                       parameters[3],
+                       residuals,
+                       jacobians);
+    return true;
+  }
+
+ private:
+  PoseComponentResidual residual_;
+};
+
 class AsymmetricPoseModel {
  public:
   static constexpr int kNumResiduals = 6;
   static constexpr int kMixtureRows = 6;
   using Prepared = Rigid3d;  // T_oc
 
-  // One component's residual, for autodiff of the winner.
+  // One component's residual as a template (what AsymmetricComponentCost
+  // evaluates; the tests autodiff it).
   struct ComponentFunctor {
     PoseComponent component;
     template <typename T>
@@ -68,9 +95,7 @@ class AsymmetricPoseModel {
       : mixture_(std::move(components)) {
     for (int j = 0; j < mixture_.size(); ++j) {
       component_costs_.push_back(
-          std::make_unique<
-              ceres::AutoDiffCostFunction<ComponentFunctor, 6, 4, 3, 4, 3>>(
-              new ComponentFunctor{mixture_.component(j)}));
+          std::make_unique<AsymmetricComponentCost>(mixture_.component(j)));
     }
   }
 
@@ -87,13 +112,16 @@ class AsymmetricPoseModel {
   double MixtureSquaredNorm(const Rigid3d& T_oc, int j) const {
     return mixture_.SquaredNorm(j, T_oc);
   }
+  double MixtureSquaredNormLowerBound(const Rigid3d& T_oc, int j) const {
+    return mixture_.SquaredNormLowerBound(j, T_oc);
+  }
   const ceres::CostFunction& Component(int j) const {
     return *component_costs_[j];
   }
 
  private:
   PoseMixture mixture_;
-  std::vector<std::unique_ptr<ceres::CostFunction>> component_costs_;
+  std::vector<std::unique_ptr<AsymmetricComponentCost>> component_costs_;
 };
 
 using AsymmetricObjectEdge =

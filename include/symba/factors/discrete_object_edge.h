@@ -19,6 +19,10 @@
 //   t_wo   3  object position (m), shared by all angles of the object
 //   a_w    3  unit symmetry axis in the world (AxisManifold), shared
 //   theta  1  this edge's symmetry angle (rad)
+//
+// The winner's Jacobians are hand-written (DiscreteComponentCost, Jets only
+// through LogSE3 and SymmetricObjectRotation); ComponentFunctor is the same
+// residual as a template.
 #ifndef SYMBA_FACTORS_DISCRETE_OBJECT_EDGE_H_
 #define SYMBA_FACTORS_DISCRETE_OBJECT_EDGE_H_
 
@@ -27,7 +31,8 @@
 #include <utility>
 #include <vector>
 
-#include <ceres/autodiff_cost_function.h>
+#include <ceres/jet.h>
+#include <ceres/sized_cost_function.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -85,12 +90,82 @@ Rigid3<T> CameraInSymmetricObject(const SymmetryAnchor& anchor,
   return T_wo.Inverse() * T_wc;
 }
 
+// The winner's residual with hand-written Jacobians: PoseComponentResidual
+// at q_wo = SymmetricObjectRotation(anchor, a_w, theta), with
+//   dr/da_w = dr/dq_wo dq_wo/da_w,   dr/dtheta = dr/dq_wo dq_wo/dtheta,
+// where the 4 x 4 Jacobian dq_wo/d(a_w, theta) comes from 4-lane Jets through
+// SymmetricObjectRotation.
+class DiscreteComponentCost final
+    : public ceres::SizedCostFunction<6, 4, 3, 3, 3, 1> {
+ public:
+  DiscreteComponentCost(const PoseComponent& component,
+                        const SymmetryAnchor& anchor)
+      : residual_(component), anchor_(anchor) {}
+
+  bool Evaluate(double const* const* parameters,
+                double* residuals,
+                double** jacobians) const override {
+    const double* a_w = parameters[3];
+    const double theta = parameters[4][0];
+    const bool want_rotation =
+        jacobians != nullptr &&
+        (jacobians[3] != nullptr || jacobians[4] != nullptr);
+    double q_wo[4];
+    Eigen::Matrix<double, 4, 4> dq_wo;  // columns: a_w (3), theta
+    if (want_rotation) {
+      using Jet4 = ceres::Jet<double, 4>;
+      const Vector3<Jet4> a(Jet4(a_w[0], 0), Jet4(a_w[1], 1), Jet4(a_w[2], 2));
+      const Eigen::Quaternion<Jet4> q =
+          SymmetricObjectRotation(anchor_, a, Jet4(theta, 3));
+      for (int k = 0; k < 4; ++k) {
+        q_wo[k] = q.coeffs()(k).a;
+        dq_wo.row(k) = q.coeffs()(k).v.transpose();
+      }
+    } else {
+      Eigen::Map<Eigen::Quaterniond>{q_wo} = SymmetricObjectRotation(
+          anchor_,
+          Eigen::Vector3d(Eigen::Map<const Eigen::Vector3d>(a_w)),
+          theta);
+    }
+    Eigen::Matrix<double, 6, 4, Eigen::RowMajor> dr_dq_wo;
+    double* pose_jacobians[4] = {nullptr, nullptr, nullptr, nullptr};
+    if (jacobians != nullptr) {
+      pose_jacobians[0] = jacobians[0];
+      pose_jacobians[1] = jacobians[1];
+      pose_jacobians[2] = want_rotation ? dr_dq_wo.data() : nullptr;
+      pose_jacobians[3] = jacobians[2];
+    }
+    residual_.Evaluate(parameters[0],
+                       parameters[1],
+                       q_wo,
+                       parameters[2],
+                       residuals,
+                       pose_jacobians);
+    if (!want_rotation) return true;
+    if (jacobians[3] != nullptr) {
+      Eigen::Map<Eigen::Matrix<double, 6, 3, Eigen::RowMajor>>{jacobians[3]} =
+          dr_dq_wo * dq_wo.leftCols<3>();
+    }
+    if (jacobians[4] != nullptr) {
+      Eigen::Map<Eigen::Matrix<double, 6, 1>>{jacobians[4]} =
+          dr_dq_wo * dq_wo.col(3);
+    }
+    return true;
+  }
+
+ private:
+  PoseComponentResidual residual_;
+  SymmetryAnchor anchor_;
+};
+
 class DiscretePoseModel {
  public:
   static constexpr int kNumResiduals = 6;
   static constexpr int kMixtureRows = 6;
   using Prepared = Rigid3d;  // T_oc_i
 
+  // One component's residual as a template (what DiscreteComponentCost
+  // evaluates; the tests autodiff it).
   struct ComponentFunctor {
     PoseComponent component;
     SymmetryAnchor anchor;
@@ -113,10 +188,8 @@ class DiscretePoseModel {
                     const SymmetryAnchor& anchor)
       : mixture_(std::move(components)), anchor_(anchor) {
     for (int j = 0; j < mixture_.size(); ++j) {
-      component_costs_.push_back(
-          std::make_unique<
-              ceres::AutoDiffCostFunction<ComponentFunctor, 6, 4, 3, 3, 3, 1>>(
-              new ComponentFunctor{mixture_.component(j), anchor_}));
+      component_costs_.push_back(std::make_unique<DiscreteComponentCost>(
+          mixture_.component(j), anchor_));
     }
   }
 
@@ -137,6 +210,9 @@ class DiscretePoseModel {
   double MixtureSquaredNorm(const Rigid3d& T_oc, int j) const {
     return mixture_.SquaredNorm(j, T_oc);
   }
+  double MixtureSquaredNormLowerBound(const Rigid3d& T_oc, int j) const {
+    return mixture_.SquaredNormLowerBound(j, T_oc);
+  }
   const ceres::CostFunction& Component(int j) const {
     return *component_costs_[j];
   }
@@ -144,7 +220,7 @@ class DiscretePoseModel {
  private:
   PoseMixture mixture_;
   SymmetryAnchor anchor_;
-  std::vector<std::unique_ptr<ceres::CostFunction>> component_costs_;
+  std::vector<std::unique_ptr<DiscreteComponentCost>> component_costs_;
 };
 
 using DiscreteObjectEdge =

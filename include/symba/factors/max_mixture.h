@@ -25,18 +25,27 @@
 // the pull of a wrong association.
 //
 // Speed: the winner is chosen in plain doubles through the model's
-// MixtureSquaredNorm (no Jets); only the winner's pre-built autodiff cost
-// function is differentiated. Evaluate allocates nothing.
+// MixtureSquaredNorm (no Jets); only the winner's cost function (the model's
+// Component(j), with hand-written or automatic Jacobians) computes Jacobians.
+// A model may also give a cheap lower bound of |r_j|^2; a component whose
+// bound shows that it can neither win nor be the nearest one is then skipped
+// without its exact norm. This never changes the selection (the bound never
+// exceeds the computed norm, and rounding is monotone). Evaluate allocates
+// nothing.
 //
 // A Model provides (see asymmetric_object_edge.h for an example):
-//   static constexpr int kNumResiduals;  // rows of one component
-//   static constexpr int kMixtureRows;   // leading rows that differ per
-//   component struct Prepared;                     // per-evaluation shared
-//   doubles int NumComponents() const; double Weight(int j) const;          //
-//   > 0 double LogDetSqrtInfo(int j) const;  // log |det L_j| of the mixture
-//   rows bool Prepare(double const* const* parameters, Prepared*) const; double
-//   MixtureSquaredNorm(const Prepared&, int j) const;  // |r_j|^2 rows const
-//   ceres::CostFunction& Component(int j) const;  // autodiff, all rows
+//   static constexpr int kNumResiduals;  rows of one component
+//   static constexpr int kMixtureRows;   leading rows that differ per component
+//   struct Prepared;                     per-evaluation shared doubles
+//   int NumComponents() const;
+//   double Weight(int j) const;          > 0
+//   double LogDetSqrtInfo(int j) const;  log |det L_j| of the mixture rows
+//   bool Prepare(double const* const* parameters, Prepared*) const;
+//   double MixtureSquaredNorm(const Prepared&, int j) const;  |r_j|^2
+//   const ceres::CostFunction& Component(int j) const;  all rows, Jacobians
+// and optionally
+//   double MixtureSquaredNormLowerBound(const Prepared&, int j) const;
+//     any value <= MixtureSquaredNorm(prepared, j) as computed
 // Rows past kMixtureRows are shared by all components (e.g. the continuous
 // edge's axis term) and are not scaled by the null hypothesis.
 #ifndef SYMBA_FACTORS_MAX_MIXTURE_H_
@@ -45,6 +54,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -74,6 +84,17 @@ struct MixtureSelection {
   double log_normalizer = 0;  // k of the winner
   double cost = 0;            // c of the winner, before subtracting k_min
 };
+
+// Whether Model has MixtureSquaredNormLowerBound (see above).
+template <typename Model, typename = void>
+struct HasMixtureLowerBound : std::false_type {};
+template <typename Model>
+struct HasMixtureLowerBound<
+    Model,
+    std::void_t<
+        decltype(std::declval<const Model&>().MixtureSquaredNormLowerBound(
+            std::declval<const typename Model::Prepared&>(), 0))>>
+    : std::true_type {};
 
 template <typename Model, int... kBlockSizes>
 class MaxMixtureCostFunction final
@@ -117,15 +138,25 @@ class MaxMixtureCostFunction final
     double nearest_squared_norm = std::numeric_limits<double>::infinity();
     int best = -1;
     int nearest = -1;
+    const bool use_null = options_.use_null_hypothesis;
     const int n = model_.NumComponents();
     for (int j = 0; j < n; ++j) {
+      if constexpr (HasMixtureLowerBound<Model>::value) {
+        // The exact norm is >= bound, so j cannot win (strictly worse than
+        // the best so far) and cannot be the nearest: skip it.
+        const double bound = model_.MixtureSquaredNormLowerBound(prepared, j);
+        if (0.5 * bound + log_normalizers_[j] > best_cost &&
+            (!use_null || bound > nearest_squared_norm)) {
+          continue;
+        }
+      }
       const double squared_norm = model_.MixtureSquaredNorm(prepared, j);
       const double cost = 0.5 * squared_norm + log_normalizers_[j];
       if (cost < best_cost) {
         best_cost = cost;
         best = j;
       }
-      if (squared_norm < nearest_squared_norm) {
+      if (use_null && squared_norm < nearest_squared_norm) {
         nearest_squared_norm = squared_norm;
         nearest = j;
       }
@@ -135,7 +166,7 @@ class MaxMixtureCostFunction final
     selection->is_null = false;
     selection->log_normalizer = log_normalizers_[best];
     selection->cost = best_cost;
-    if (options_.use_null_hypothesis) {
+    if (use_null && nearest >= 0) {
       const double scale = 1.0 / options_.null_sigma_scale;
       const double null_cost =
           0.5 * scale * scale * nearest_squared_norm + NullNormalizer(nearest);

@@ -17,7 +17,8 @@
 // relative motion with a yaw bias about the world vertical,
 //     T_wc_fe(k) = T_wc_fe(k-1) * T_{k-1,k} * (Rot(a_c, b + e_k), 0) * Exp(n)
 // with a_c = R_wc(k)^T z_w, b = yaw_bias per keyframe and e_k ~ N(0,
-// yaw_noise^2), so its trajectory bends away from the truth. Optional
+// yaw_noise^2), so its trajectory bends away from the truth (back on a rich
+// half, a later loop's front end relocalises: accurate again). Optional
 // odometry has the same yaw bias (and noise) on the featureless half and
 // small noise on the rich half; its translation is accurate.
 //
@@ -27,9 +28,9 @@
 //
 // Detections: per object whose centre projects into the image, one
 // DetectionInput "<keyframe id>/<object index>" with num_hypotheses T_co:
-//   inlier j   T_co^j = T_cw * T_wo * (Rot(a_o, phi_j), 0) * (Exp(r_j), s_j)
-//              r_j ~ N(0, rotation_sigma^2 I), s_j ~ N(0, translation_sigma^2
-//              I)
+//   inlier j   R_co^j = R_co Rot(a_o, phi_j) Exp(r_j),  t_co^j = t_co + s_j
+//              with T_co = T_cw T_wo the truth, r_j ~ N(0, rotation_sigma^2
+//              I), s_j ~ N(0, translation_sigma^2 I)
 //     discrete    phi_j = 2 pi m / order, m taking the view's visible modes in
 //                 turn; the view shows a random set of between
 //                 min_visible_modes and max_visible_modes modes (0 = order),

@@ -25,6 +25,7 @@ struct ReplayFlags {
   std::string mode = "window";
   std::string loss;
   bool quiet = false;
+  bool g2o_isotropic = false;
   double gate_axis_deg = 0.0;
   double gate_rotation_deg = 0.0;
   double gate_angle_deg = 0.0;
@@ -128,6 +129,10 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                   f->gate_angle_deg,
                   "discrete angle association gate (degrees)")
       ->capture_default_str();
+  cmd->add_flag("--g2o-isotropic",
+                f->g2o_isotropic,
+                "g2o input: replace each edge's information by SE-Sync's "
+                "isotropic one (needed for files with indefinite information)");
   cmd->add_flag("--quiet", f->quiet, "no progress on stderr");
   return cmd;
 }
@@ -144,7 +149,9 @@ int RunPoseGraphReplay(const ReplayFlags& f) {
   symba::PoseGraphSolveSummary summary;
   symba::PoseGraphSolveOptions options;
   options.num_threads = f.backend.num_threads;
-  symba::Status status = symba::ReadG2oPoseGraph(f.log, &graph);
+  symba::G2oReadOptions read_options;
+  read_options.isotropic_information = f.g2o_isotropic;
+  symba::Status status = symba::ReadG2oPoseGraph(f.log, &graph, read_options);
   if (status.ok()) status = symba::OptimizePoseGraph(options, &graph, &summary);
   if (status.ok()) {
     status = symba::WriteDirectoryAtomically(

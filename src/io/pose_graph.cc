@@ -531,43 +531,4 @@ std::vector<std::pair<double, Rigid3d>> PoseGraphTrajectory(
   return trajectory;
 }
 
-std::string FormatTumTrajectory(
-    const std::vector<std::pair<double, Rigid3d>>& trajectory) {
-  std::string text;
-  char line[8 * 26 + 2];
-  for (const auto& [timestamp, T_w] : trajectory) {
-    std::snprintf(line,
-                  sizeof(line),
-                  "%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
-                  timestamp,
-                  T_w.t.x(),
-                  T_w.t.y(),
-                  T_w.t.z(),
-                  T_w.q.x(),
-                  T_w.q.y(),
-                  T_w.q.z(),
-                  T_w.q.w());
-    text += line;
-  }
-  return text;
-}
-
-Status WriteTumTrajectory(
-    const std::string& path,
-    const std::vector<std::pair<double, Rigid3d>>& trajectory) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(
-      std::fopen(path.c_str(), "w"), &std::fclose);
-  if (file == nullptr) {
-    return Status::Error(path + ": cannot open for writing (" +
-                         std::strerror(errno) + ")");
-  }
-  const std::string text = FormatTumTrajectory(trajectory);
-  const size_t written = std::fwrite(text.data(), 1, text.size(), file.get());
-  const bool write_error = written != text.size();
-  if (std::fclose(file.release()) != 0 || write_error) {
-    return Status::Error(path + ": write error (" + std::strerror(errno) + ")");
-  }
-  return Status::Ok();
-}
-
 }  // namespace symba

@@ -2,9 +2,7 @@
 
 #include <unistd.h>
 
-#include <array>
 #include <atomic>
-#include <charconv>
 #include <filesystem>
 #include <fstream>
 #include <system_error>
@@ -54,35 +52,6 @@ std::string QuoteCsv(const std::string& field) {
 }
 
 }  // namespace
-
-std::string FormatDouble(double value) {
-  std::array<char, 32> buffer;
-  const auto result =
-      std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-  return std::string(buffer.data(), result.ptr);
-}
-
-std::string FormatTumTrajectory(
-    const std::vector<KeyframeEstimate>& keyframes) {
-  std::string out;
-  for (const KeyframeEstimate& kf : keyframes) {
-    const Eigen::Quaterniond q = kf.T_wc.q.normalized();
-    const double values[8] = {kf.timestamp,
-                              kf.T_wc.t.x(),
-                              kf.T_wc.t.y(),
-                              kf.T_wc.t.z(),
-                              q.x(),
-                              q.y(),
-                              q.z(),
-                              q.w()};
-    for (int i = 0; i < 8; ++i) {
-      if (i > 0) out += ' ';
-      out += FormatDouble(values[i]);
-    }
-    out += '\n';
-  }
-  return out;
-}
 
 std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects) {
   Json list = Json::array();

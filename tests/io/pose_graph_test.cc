@@ -699,8 +699,7 @@ TEST(TumTrajectory, FormatsAndWritesRoundTrippableLines) {
   const Rigid3d T(Eigen::Quaterniond(0.8, 0.6, 0, 0),
                   Eigen::Vector3d(0.1, -2, 1e-20));
   EXPECT_EQ(FormatTumTrajectory({{3.0, T}, {4.0, Rigid3d::Identity()}}),
-            "3 0.10000000000000001 -2 9.9999999999999995e-21 "
-            "0.59999999999999998 0 0 0.80000000000000004\n"
+            "3 0.1 -2 1e-20 0.6 0 0 0.8\n"
             "4 0 0 0 0 0 0 1\n");
 
   PoseGraph graph;

@@ -27,6 +27,7 @@
 #include "symba/factors/pose_component.h"
 #include "symba/factors/pose_graph_edge.h"
 #include "symba/geometry/rigid3.h"
+#include "symba/io/tum_trajectory.h"
 
 namespace symba {
 
@@ -120,17 +121,6 @@ Status OptimizePoseGraph(const PoseGraphSolveOptions& options,
 // increasing id order.
 std::vector<std::pair<double, Rigid3d>> PoseGraphTrajectory(
     const PoseGraph& graph);
-
-// A TUM trajectory as text: one line "timestamp tx ty tz qx qy qz qw" per
-// pose, in the given order, numbers with 17 significant digits (they read
-// back as the same doubles).
-std::string FormatTumTrajectory(
-    const std::vector<std::pair<double, Rigid3d>>& trajectory);
-
-// Writes FormatTumTrajectory(trajectory) to `path`.
-Status WriteTumTrajectory(
-    const std::string& path,
-    const std::vector<std::pair<double, Rigid3d>>& trajectory);
 
 }  // namespace symba
 

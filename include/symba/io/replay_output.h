@@ -17,14 +17,11 @@
 #include "symba/backend/estimates.h"
 #include "symba/common/status.h"
 #include "symba/io/pose_graph.h"
+#include "symba/io/tum_trajectory.h"
 #include "symba/replay/replay.h"
 
 namespace symba {
 
-// The shortest decimal text that reads back as the same double.
-std::string FormatDouble(double value);
-
-std::string FormatTumTrajectory(const std::vector<KeyframeEstimate>& keyframes);
 std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects);
 std::string FormatAssociationsCsv(
     const std::vector<DetectionAssignment>& assignments);

@@ -6,7 +6,7 @@
 //                                (what Ceres calls once per iteration)
 //   BM_<Type>EdgeResidualOnly/N  Evaluate with jacobians == nullptr
 //   BM_<Type>EdgeSelect/N        choosing the winner alone (doubles)
-//   BM_<Type>EdgeWinnerOnly      the winner's autodiff cost function alone
+//   BM_<Type>EdgeWinnerOnly      the winner's cost function alone
 //   BM_<Type>EdgeAutoDiffAll/N   reference: every component's residual in
 //                                Jets, the minimum picked inside the functor
 //   BM_<Type>EdgeRatios          the edge at N = 1, 30, 100 and the reference

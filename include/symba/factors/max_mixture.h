@@ -144,10 +144,12 @@ class MaxMixtureCostFunction final
       if constexpr (HasMixtureLowerBound<Model>::value) {
         // The exact norm is >= bound, so j cannot win (strictly worse than
         // the best so far) and cannot be the nearest: skip it.
-        const double bound = model_.MixtureSquaredNormLowerBound(prepared, j);
-        if (0.5 * bound + log_normalizers_[j] > best_cost &&
-            (!use_null || bound > nearest_squared_norm)) {
-          continue;
+        if (best >= 0) {
+          const double bound = model_.MixtureSquaredNormLowerBound(prepared, j);
+          if (0.5 * bound + log_normalizers_[j] > best_cost &&
+              (!use_null || bound > nearest_squared_norm)) {
+            continue;
+          }
         }
       }
       const double squared_norm = model_.MixtureSquaredNorm(prepared, j);

@@ -6,13 +6,13 @@
 // baselines (sh, mh), which associate by the full 6-DoF pose, fragment when
 // the detector's modes flip.
 //
-// Where the tolerances come from (measured over seeds 1-12 of these
-// sequences with the default BackendOptions):
-//   - rich half: reprojections carry no scale (a point's depth only
-//     initialises it) and the front end's relative motion enters with the
-//     default 5 cm / 0.02 rad although it is accurate to 0.5 cm here, so
-//     even without any object the rich half alone drifts to 0.06-0.15 m RMSE
-//     (max up to 0.22 m) over its 20 keyframes;
+// Where the tolerances come from (measured over seeds 1-16 of these
+// sequences with the default BackendOptions, at commit 3af1f64 + this file):
+//   - rich half: only a point's first observation carries a depth (a 1 %
+//     depth factor), later ones are bearings, and the front end's relative
+//     motion enters with the default 5 cm / 0.02 rad although it is accurate
+//     to 0.5 cm here; even without any object the rich half alone drifts to
+//     0.04-0.12 m RMSE (max up to 0.17 m) over its 20 keyframes;
 //   - featureless half: one detection fixes the camera in the object frame
 //     to about |t_co| * sigma_r / 2 = 2.8 m * 3 deg / 2 = 7 cm per axis (the
 //     SE(3) logarithm of Eq. 14 halves the lever arm), on top of the error of
@@ -22,8 +22,8 @@
 //     does not move), so only the rotation rows (sigma_r = 0.05 rad) resist
 //     the biased front end (0.02 rad, 1.5 deg per keyframe), and keyframes
 //     leave the window before the pull has settled: a few degrees remain.
-// symba reaches 0.06-0.19 m RMSE and 0.10-0.38 m max in position, 1.2-4.5
-// deg RMSE and 2.5-10.5 deg max in rotation; the tests allow 0.20 m / 0.40 m
+// symba reaches 0.06-0.17 m RMSE and 0.11-0.32 m max in position, 0.9-3.8
+// deg RMSE and 2.1-9.0 deg max in rotation; the tests allow 0.20 m / 0.40 m
 // and 5 deg / 12 deg, against a front end at about 0.5 m / 1.4 m and 13 deg
 // / 30 deg (asserted too, so the tests cannot pass on a tame sequence). The
 // structural assertions (object counts, types, modes, assignments) hold on
@@ -111,17 +111,25 @@ std::vector<Rigid3d> FrontendPoses(const ScriptedSequence& seq) {
 }
 
 // Feeds the sequence keyframe by keyframe, with a window solve after each
-// (as a SLAM system runs it).
+// (as a SLAM system runs it). With `until_objects` > 0 it stops as soon as
+// the map holds that many objects; `fed` (optional) receives the number of
+// keyframes fed.
 void RunSequence(const ScriptedSequence& seq,
                  const BackendOptions& options,
-                 std::unique_ptr<Backend>* backend) {
+                 std::unique_ptr<Backend>* backend,
+                 size_t until_objects = 0,
+                 size_t* fed = nullptr) {
   Status status = Backend::Create(options, seq.intrinsics, {}, backend);
   ASSERT_TRUE(status.ok()) << status.message();
-  for (const KeyframeInput& kf : seq.keyframes) {
-    status = (*backend)->AddKeyframe(kf);
+  for (size_t k = 0; k < seq.keyframes.size(); ++k) {
+    status = (*backend)->AddKeyframe(seq.keyframes[k]);
     ASSERT_TRUE(status.ok()) << status.message();
     status = (*backend)->OptimizeWindow();
     ASSERT_TRUE(status.ok()) << status.message();
+    if (fed != nullptr) *fed = k + 1;
+    if (until_objects > 0 && (*backend)->Objects().size() >= until_objects) {
+      return;
+    }
   }
 }
 
@@ -162,7 +170,9 @@ ScriptedObject Table(SymmetryType symmetry, int order) {
 
 // symba: one map object of the right type whose axis, position and (for a
 // discrete object) every mode match the truth, and the keyframes within the
-// tolerances. sh and mh: more than one map object for the one table.
+// tolerances. sh and mh: more than one map object for the one table (fed
+// only until they fragment: the rest would not change that, and the
+// sanitizer build is slow).
 void ExpectSymbaTracksBaselinesFragment(const ScriptedSequenceSpec& spec,
                                         const char* name) {
   const ScriptedSequence seq = GenerateScriptedSequence(spec);
@@ -171,65 +181,68 @@ void ExpectSymbaTracksBaselinesFragment(const ScriptedSequenceSpec& spec,
   EXPECT_GT(frontend.rmse, kFrontendMinRmse);
   EXPECT_GT(frontend.rotation_rmse, kFrontendMinRotationRmse);
 
-  std::map<Method, size_t> num_objects;
-  for (Method method :
-       {Method::kSymba, Method::kMultiHypothesis, Method::kSingleHypothesis}) {
+  for (Method method : {Method::kMultiHypothesis, Method::kSingleHypothesis}) {
     SCOPED_TRACE(MethodName(method));
     BackendOptions options;
     options.method = method;
     std::unique_ptr<Backend> backend;
-    ASSERT_NO_FATAL_FAILURE(RunSequence(seq, options, &backend));
-    const std::vector<MapObjectEstimate> objects = backend->Objects();
-    num_objects[method] = objects.size();
-    const PositionError error =
-        Positions(seq.T_wc_true, EstimatedPoses(*backend));
-    std::printf(
-        "[ %s ] %-5s objects %zu, keyframe RMSE %.3f m, max %.3f m, "
-        "rotation RMSE %.1f deg, max %.1f deg (front end %.3f m / %.3f m, "
-        "%.1f deg / %.1f deg)\n",
-        name,
-        MethodName(method),
-        objects.size(),
-        error.rmse,
-        error.max,
-        error.rotation_rmse / kDegree,
-        error.rotation_max / kDegree,
-        frontend.rmse,
-        frontend.max,
-        frontend.rotation_rmse / kDegree,
-        frontend.rotation_max / kDegree);
-    if (method != Method::kSymba) {
-      EXPECT_GT(objects.size(), 1u);
-      continue;
-    }
-    ASSERT_EQ(objects.size(), 1u);
-    const MapObjectEstimate& object = objects.front();
-    EXPECT_EQ(object.symmetry, truth.symmetry);
-    EXPECT_EQ(object.observations,
-              static_cast<int>(backend->Assignments().size()));
-    EXPECT_LT((object.t_wo - truth.T_wo.t).norm(), kObjectPositionTolerance);
-    EXPECT_LT(AxisAngle(object.axis_w, truth.T_wo.q * truth.axis_o),
-              kAxisTolerance);
-    if (truth.symmetry == SymmetryType::kDiscrete) {
-      // One angle per mode, each near a distinct true mode.
-      EXPECT_EQ(static_cast<int>(object.angles.size()), truth.order);
-      std::set<int> modes;
-      for (const Rigid3d& pose : object.poses) {
-        for (int m = 0; m < truth.order; ++m) {
-          const Eigen::Quaterniond R_wo_m =
-              truth.T_wo.q * Rot(truth.axis_o, kTwoPi * m / truth.order);
-          if (pose.q.angularDistance(R_wo_m) < kModeTolerance) {
-            modes.insert(m);
-          }
+    size_t fed = 0;
+    ASSERT_NO_FATAL_FAILURE(RunSequence(seq, options, &backend, 2, &fed));
+    std::printf("[ %s ] %-5s %zu objects after %zu of %zu keyframes\n",
+                name,
+                MethodName(method),
+                backend->Objects().size(),
+                fed,
+                seq.keyframes.size());
+    EXPECT_GT(backend->Objects().size(), 1u);
+  }
+
+  std::unique_ptr<Backend> backend;
+  ASSERT_NO_FATAL_FAILURE(RunSequence(seq, BackendOptions(), &backend));
+  const std::vector<MapObjectEstimate> objects = backend->Objects();
+  const PositionError error =
+      Positions(seq.T_wc_true, EstimatedPoses(*backend));
+  std::printf(
+      "[ %s ] symba %zu objects, keyframe RMSE %.3f m, max %.3f m, rotation "
+      "RMSE %.1f deg, max %.1f deg (front end %.3f m / %.3f m, %.1f deg / "
+      "%.1f deg)\n",
+      name,
+      objects.size(),
+      error.rmse,
+      error.max,
+      error.rotation_rmse / kDegree,
+      error.rotation_max / kDegree,
+      frontend.rmse,
+      frontend.max,
+      frontend.rotation_rmse / kDegree,
+      frontend.rotation_max / kDegree);
+  ASSERT_EQ(objects.size(), 1u);
+  const MapObjectEstimate& object = objects.front();
+  EXPECT_EQ(object.symmetry, truth.symmetry);
+  EXPECT_EQ(object.observations,
+            static_cast<int>(backend->Assignments().size()));
+  EXPECT_LT((object.t_wo - truth.T_wo.t).norm(), kObjectPositionTolerance);
+  EXPECT_LT(AxisAngle(object.axis_w, truth.T_wo.q * truth.axis_o),
+            kAxisTolerance);
+  if (truth.symmetry == SymmetryType::kDiscrete) {
+    // One angle per mode, each near a distinct true mode.
+    EXPECT_EQ(static_cast<int>(object.angles.size()), truth.order);
+    std::set<int> modes;
+    for (const Rigid3d& pose : object.poses) {
+      for (int m = 0; m < truth.order; ++m) {
+        const Eigen::Quaterniond R_wo_m =
+            truth.T_wo.q * Rot(truth.axis_o, kTwoPi * m / truth.order);
+        if (pose.q.angularDistance(R_wo_m) < kModeTolerance) {
+          modes.insert(m);
         }
       }
-      EXPECT_EQ(static_cast<int>(modes.size()), truth.order);
     }
-    EXPECT_LT(error.rmse, kRmseTolerance);
-    EXPECT_LT(error.max, kMaxErrorTolerance);
-    EXPECT_LT(error.rotation_rmse, kRotationRmseTolerance);
-    EXPECT_LT(error.rotation_max, kRotationMaxTolerance);
+    EXPECT_EQ(static_cast<int>(modes.size()), truth.order);
   }
+  EXPECT_LT(error.rmse, kRmseTolerance);
+  EXPECT_LT(error.max, kMaxErrorTolerance);
+  EXPECT_LT(error.rotation_rmse, kRotationRmseTolerance);
+  EXPECT_LT(error.rotation_max, kRotationMaxTolerance);
 }
 
 // ---------------------------------------------------------------------------
@@ -279,8 +292,8 @@ TEST(BackendSequences, RoundTableOneObjectAndTrajectoryWithinNoise) {
 
 // With the yaw-drifting front end poses alone, the azimuth of the cameras
 // about the round table is not observable, but their distance to its axis
-// and their height are: those must stay within the noise (measured 0.035-0.08
-// m RMSE and 0.07-0.14 m max over seeds 1-12; 0.12 m and 0.20 m are
+// and their height are: those must stay within the noise (measured 0.03-0.09
+// m RMSE and 0.05-0.17 m max over seeds 1-16; 0.12 m and 0.20 m are
 // allowed). The azimuthal error is reported, not asserted.
 TEST(BackendSequences, RoundTableFixesWhatItObserves) {
   const ScriptedSequenceSpec spec =
@@ -320,7 +333,8 @@ TEST(BackendSequences, RoundTableFixesWhatItObserves) {
 // together fix the azimuth, so the plain drifting front end is used. They
 // fix it less firmly than a discrete object (through two positions 1.2 m
 // apart, each known to a few cm): measured 0.10-0.26 m RMSE and 0.21-0.47 m
-// max over seeds 1-12, hence 0.30 m and 0.55 m here.
+// max over seeds 1-16 (before and after the depth factor), hence 0.30 m and
+// 0.55 m here.
 
 TEST(BackendSequences, TwoRoundTablesStayApart) {
   ScriptedSequenceSpec spec;
@@ -584,7 +598,11 @@ std::vector<Rigid3d> SolveShortSequence(const ScriptedSequence& seq,
   options.max_iterations = 50;
   options.batch_max_iterations = 50;
   std::unique_ptr<Backend> backend;
-  EXPECT_TRUE(Backend::Create(options, seq.intrinsics, {}, &backend).ok());
+  const Status created = Backend::Create(options, seq.intrinsics, {}, &backend);
+  if (!created.ok()) {
+    ADD_FAILURE() << created.message();
+    return {};
+  }
   for (const KeyframeInput& kf : seq.keyframes) {
     EXPECT_TRUE(backend->AddKeyframe(kf).ok());
     if (window_after_each) {

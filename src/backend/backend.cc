@@ -73,6 +73,18 @@ std::vector<PoseComponent> Components(const std::vector<PoseHypothesis>& hyps,
   return components;
 }
 
+// One mode's hypotheses merged into one component at `T_co` (the mode's
+// mean from the categorization), weighted by their total weight.
+std::vector<PoseComponent> MergedComponent(
+    const std::vector<PoseHypothesis>& hyps,
+    const std::vector<int>& members,
+    const Rigid3d& T_co,
+    const Matrix6d& sqrt_info) {
+  double weight = 0.0;
+  for (int j : members) weight += hyps[j].weight;
+  return {{Normalized(T_co), sqrt_info, weight}};
+}
+
 int HighestWeight(const std::vector<PoseHypothesis>& hyps,
                   const std::vector<int>& indices) {
   int best = indices.front();
@@ -494,20 +506,29 @@ Status Backend::Impl::AddSymba(int k,
   if (cat.type != SymmetryType::kAsymmetric) base.axis_c = cat.axis_c;
   if (object.type == SymmetryType::kDiscrete &&
       cat.type != SymmetryType::kContinuous) {
-    std::vector<std::vector<int>> groups;
+    // Each group is one mode: its members and their mean pose.
+    std::vector<std::pair<std::vector<int>, Rigid3d>> groups;
     if (cat.type == SymmetryType::kDiscrete) {
       for (const AngleCluster& cluster : cat.clusters) {
-        groups.push_back(cluster.members);
+        const Eigen::Quaterniond R_cluster =
+            cat.T_co_base.q *
+            Eigen::Quaterniond(Eigen::AngleAxisd(cluster.theta, cat.axis_o));
+        groups.emplace_back(cluster.members, Rigid3d(R_cluster, cat.t_co));
       }
     } else {
-      groups.push_back(inliers);
+      groups.emplace_back(inliers, cat.T_co_base);
     }
-    for (const std::vector<int>& members : groups) {
+    for (const auto& [members, T_co_mode] : groups) {
       if (members.empty()) continue;
       ObjectObservation observation = base;
-      const int best = HighestWeight(hyps, members);
-      observation.T_co_best = Normalized(hyps[best].T_co);
-      observation.components = Components(hyps, members, sqrt_info);
+      observation.T_co_best =
+          options_.merge_modes
+              ? Normalized(T_co_mode)
+              : Normalized(hyps[HighestWeight(hyps, members)].T_co);
+      observation.components =
+          options_.merge_modes
+              ? MergedComponent(hyps, members, T_co_mode, sqrt_info)
+              : Components(hyps, members, sqrt_info);
       observation.angle =
           MatchOrAddAngle(&object, (T_wc * observation.T_co_best).q);
       AddObservation(o, std::move(observation));
@@ -516,7 +537,12 @@ Status Backend::Impl::AddSymba(int k,
     base.T_co_best = cat.type == SymmetryType::kAsymmetric
                          ? cat.T_co_base
                          : Normalized(hyps[HighestWeight(hyps, inliers)].T_co);
-    base.components = Components(hyps, inliers, sqrt_info);
+    // A continuous edge uses only the components' positions, so merging
+    // them at T_co_base (position t_co) is right for both types.
+    base.components =
+        options_.merge_modes
+            ? MergedComponent(hyps, inliers, cat.T_co_base, sqrt_info)
+            : Components(hyps, inliers, sqrt_info);
     AddObservation(o, std::move(base));
   }
   *object_index = o;

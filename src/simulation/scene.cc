@@ -185,6 +185,8 @@ Status SimulationOptions::Validate() const {
       {seconds_per_keyframe, "seconds_per_keyframe"},
       {odometry_sigma_t, "odometry_sigma_t"},
       {odometry_sigma_r, "odometry_sigma_r"},
+      {featureless_odometry_sigma_t, "featureless_odometry_sigma_t"},
+      {featureless_odometry_sigma_r, "featureless_odometry_sigma_r"},
       {wall_radius, "wall_radius"},
       {min_point_depth, "min_point_depth"},
       {intrinsics.fx, "fx"},

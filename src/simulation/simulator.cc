@@ -386,8 +386,10 @@ Status Simulate(const std::string& scene_name,
       if (options.with_odometry) {
         Odometry odometry;
         odometry.T_prev_cur = motion;
-        odometry.sigma_t = options.odometry_sigma_t;
-        odometry.sigma_r = options.odometry_sigma_r;
+        odometry.sigma_t = rich ? options.odometry_sigma_t
+                                : options.featureless_odometry_sigma_t;
+        odometry.sigma_r = rich ? options.odometry_sigma_r
+                                : options.featureless_odometry_sigma_r;
         input.odometry = odometry;
       }
     }
@@ -410,7 +412,7 @@ Status Simulate(const std::string& scene_name,
         PointObservation obs;
         obs.id = static_cast<int64_t>(i);
         obs.uv = uv;
-        if (!point_seen[i]) {
+        if (options.depth_every_observation || !point_seen[i]) {
           obs.depth =
               std::max(1e-3, p_c.z() + random.Normal(options.depth_sigma));
           point_seen[i] = true;

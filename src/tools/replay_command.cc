@@ -96,6 +96,11 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                   b.object_loss_scale,
                   "object loss scale (whitened units)")
       ->capture_default_str();
+  cmd->add_option("--merge-modes",
+                  b.merge_modes,
+                  "symba: one component per mode at its mean (true) or one "
+                  "per hypothesis (false, the paper)")
+      ->capture_default_str();
   cmd->add_flag("--null-hypothesis",
                 b.mixture.use_null_hypothesis,
                 "add a null-hypothesis component to every mixture");

@@ -157,16 +157,26 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
   cmd->add_flag("--relocalize-on-rich",
                 o.relocalize_on_rich,
                 "reset the front end to the truth on the rich side");
-  cmd->add_flag("--with-odometry",
-                o.with_odometry,
-                "also write the front end's relative motion as odometry");
+  cmd->add_option("--with-odometry",
+                  o.with_odometry,
+                  "also write the front end's relative motion as odometry "
+                  "(true/false)")
+      ->capture_default_str();
   cmd->add_option("--odometry-sigma-t",
                   o.odometry_sigma_t,
-                  "odometry sigma_t written to the log (m)")
+                  "odometry sigma_t written on rich keyframes (m)")
       ->capture_default_str();
   cmd->add_option("--odometry-sigma-r",
                   o.odometry_sigma_r,
-                  "odometry sigma_r written to the log (rad)")
+                  "odometry sigma_r written on rich keyframes (rad)")
+      ->capture_default_str();
+  cmd->add_option("--featureless-odometry-sigma-t",
+                  o.featureless_odometry_sigma_t,
+                  "odometry sigma_t written on featureless keyframes (m)")
+      ->capture_default_str();
+  cmd->add_option("--featureless-odometry-sigma-r",
+                  o.featureless_odometry_sigma_r,
+                  "odometry sigma_r written on featureless keyframes (rad)")
       ->capture_default_str();
 
   // Map points.
@@ -182,7 +192,12 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
   cmd->add_option("--pixel-sigma", o.pixel_sigma, "pixel noise (px per axis)")
       ->capture_default_str();
   cmd->add_option(
-         "--depth-sigma", o.depth_sigma, "noise of a point's first depth (m)")
+         "--depth-sigma", o.depth_sigma, "noise of a point's depth (m)")
+      ->capture_default_str();
+  cmd->add_option("--depth-every-observation",
+                  o.depth_every_observation,
+                  "every point observation carries its depth, as from an "
+                  "RGB-D camera; false: only the first (true/false)")
       ->capture_default_str();
   cmd->add_option("--min-point-depth",
                   o.min_point_depth,

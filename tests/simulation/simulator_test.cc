@@ -380,7 +380,13 @@ TEST(Simulation, RelocalisingFrontEndIsAccurateOnEveryRichKeyframe) {
     SCOPED_TRACE(k);
     const KeyframeInput& kf = seq.keyframes[k];
     ASSERT_TRUE(kf.odometry.has_value());
-    EXPECT_EQ(kf.odometry->sigma_t, opt.odometry_sigma_t);
+    // The claimed sigmas follow the side the keyframe is on.
+    EXPECT_EQ(
+        kf.odometry->sigma_t,
+        seq.rich[k] ? opt.odometry_sigma_t : opt.featureless_odometry_sigma_t);
+    EXPECT_EQ(
+        kf.odometry->sigma_r,
+        seq.rich[k] ? opt.odometry_sigma_r : opt.featureless_odometry_sigma_r);
     if (seq.rich[k]) {
       EXPECT_LT((kf.T_wc->t - seq.T_wc_true[k].t).norm(), 0.05);
     }
@@ -449,6 +455,24 @@ TEST(Simulation, PointsLieOnTheRichSideAndAreObservedOnlyWhereVisible) {
 
 // ---------------------------------------------------------------------------
 // Files.
+
+TEST(Simulation, RgbdFrontEndGivesEveryObservationItsDepth) {
+  SimulationOptions opt;
+  opt.depth_every_observation = true;
+  const SimulatedSequence seq = MustSimulate("disc", opt, 7);
+  size_t observations = 0;
+  for (size_t k = 0; k < seq.keyframes.size(); ++k) {
+    const Rigid3d T_cw = seq.T_wc_true[k].Inverse();
+    for (const PointObservation& obs : seq.keyframes[k].points) {
+      ASSERT_TRUE(obs.depth.has_value());
+      const Eigen::Vector3d p_c =
+          T_cw * seq.points_w[static_cast<size_t>(obs.id)];
+      EXPECT_NEAR(*obs.depth, p_c.z(), kSigmas * opt.depth_sigma);
+      ++observations;
+    }
+  }
+  EXPECT_GT(observations, 1000u);
+}
 
 TEST(Simulation, FilesReadBackAndEveryDetectionMapsToAGroundTruthObject) {
   const SimulatedSequence seq = MustSimulate("room", SimulationOptions(), 9);

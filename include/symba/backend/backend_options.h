@@ -46,6 +46,15 @@ struct BackendOptions {
   // The continuous edge's axis weight (paper Eq. 5) and axis noise (rad).
   double gamma = 1.0;
   double axis_sigma = 0.1;
+  // symba only. true: the hypotheses of one mode enter an object edge as one
+  // component at their mean (an asymmetric detection's inliers: T_co_base;
+  // a discrete cluster c: (R_base Rot(a_o, theta_c), t_co); a continuous
+  // detection's positions: t_co), with the detection's per-hypothesis
+  // sigmas. false: every hypothesis is a component (the paper). A
+  // max-mixture over a cloud of near-identical hypotheses follows the one
+  // nearest the current estimate and barely resists a drifting camera; see
+  // docs/backend.md "Mode merging" for the measurements.
+  bool merge_modes = true;
   // Robust loss on every object edge; scale in whitened units.
   LossType object_loss = LossType::kCauchy;
   double object_loss_scale = 3.0;

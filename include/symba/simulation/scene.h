@@ -100,25 +100,34 @@ struct SimulationOptions {
   // noise) instead of integrating: a relocalising front end whose relative
   // motion then jumps by the accumulated drift when it re-enters.
   bool relocalize_on_rich = false;
-  // Also write the front end's relative motion as `odometry` with these
-  // claimed standard deviations (the pose T_wc is always written).
-  bool with_odometry = false;
-  double odometry_sigma_t = 0.02;  // m
-  double odometry_sigma_r = 0.02;  // rad
+  // Also write the front end's relative motion as `odometry` (the pose
+  // T_wc is always written) with the standard deviations the front end
+  // claims: odometry_sigma_* on rich keyframes, featureless_odometry_sigma_*
+  // on featureless ones (a front end that has lost its features knows it).
+  // The defaults are about twice the true per-axis noise, and on the
+  // featureless side just above the yaw bias, which the claim cannot
+  // know as a bias. Off, the backend uses its own frontend_sigma_*.
+  bool with_odometry = true;
+  double odometry_sigma_t = 0.01;              // m
+  double odometry_sigma_r = 0.005;             // rad
+  double featureless_odometry_sigma_t = 0.02;  // m
+  double featureless_odometry_sigma_r = 0.04;  // rad
 
   // --- Map points --------------------------------------------------------
   // num_points points on a vertical cylinder of wall_radius about the
   // origin, between wall_z_min and wall_z_max, on the arc facing the rich
   // cameras (the orbit's rich arc turned by pi). Rich keyframes observe the
   // points in front of them (depth >= min_point_depth) whose noisy pixel
-  // lies inside the image; featureless keyframes report no points. A
-  // point's first observation carries its depth.
+  // lies inside the image; featureless keyframes report no points. With
+  // depth_every_observation (an RGB-D front end, the paper's setting) every
+  // observation carries the point's noisy depth, otherwise only its first.
   int num_points = 300;
-  double wall_radius = 5.0;      // m
-  double wall_z_min = 0.0;       // m
-  double wall_z_max = 2.0;       // m
-  double pixel_sigma = 1.0;      // px per axis
-  double depth_sigma = 0.02;     // m
+  double wall_radius = 5.0;   // m
+  double wall_z_min = 0.0;    // m
+  double wall_z_max = 2.0;    // m
+  double pixel_sigma = 1.0;   // px per axis
+  double depth_sigma = 0.02;  // m
+  bool depth_every_observation = false;
   double min_point_depth = 0.3;  // m
   PinholeIntrinsics intrinsics{525.0, 525.0, 319.5, 239.5};
   int image_width = 640;   // px

@@ -5,7 +5,13 @@
 // the output. Deterministic for a given seed.
 //
 //   symba-categorization-bench [--detections=1000] [--seed=1] [--n=30]
+//                              [--noise=angle|per-axis]
 //                              [--set=<option>=<value>]... [--stats]
+//
+// --noise says what "a rotation noise of s degrees" means: `angle` (the
+// default) makes s the RMS angle of each hypothesis' rotation error, i.e.
+// s / sqrt(3) per axis, the way detectors report rotation error; `per-axis`
+// draws s per axis (RMS angle s sqrt(3)), the harsher reading.
 //
 // --set overrides one CategorizationOptions field (angles in degrees, the
 // translation gate in metres), to measure the sensitivity of a threshold.
@@ -152,6 +158,7 @@ void PrintDecisionStats(const std::string& cell, const DecisionStats& s) {
 int Run(int detections,
         unsigned seed,
         int num_hypotheses,
+        bool noise_per_axis,
         const CategorizationOptions& options,
         bool print_stats) {
   const std::vector<Shape> shapes = {
@@ -180,11 +187,14 @@ int Run(int detections,
 
   std::printf(
       "symba-categorization-bench: %d detections per cell, N = %d, seed %u\n"
+      "noise: %s\n"
       "axis errors in the camera frame (axis_c) and object frame (axis_o), "
       "cluster angle errors, in degrees (median / p95)\n\n",
       detections,
       num_hypotheses,
-      seed);
+      seed,
+      noise_per_axis ? "per axis (RMS rotation angle = noise x sqrt(3))"
+                     : "RMS rotation angle (noise / sqrt(3) per axis)");
   std::printf(
       "%-11s %5s %4s | %6s %6s %6s | %7s | %-11s | %-11s | %-11s | %6s | %6s "
       "%6s\n",
@@ -209,7 +219,8 @@ int Run(int detections,
         spec.type = shape.type;
         spec.order = shape.order;
         spec.visible_modes = shape.visible;
-        spec.rotation_sigma = noise * kDegree;
+        spec.rotation_sigma =
+            noise * kDegree / (noise_per_axis ? 1.0 : std::sqrt(3.0));
         spec.outlier_fraction = outliers;
         spec.num_hypotheses = num_hypotheses;
         testing::TestRandom random(cell_seed++);
@@ -395,6 +406,7 @@ int main(int argc, char** argv) {
   unsigned seed = 1;
   int n = 30;
   bool stats = false;
+  bool noise_per_axis = false;
   symba::CategorizationOptions options;
   for (int i = 1; i < argc; ++i) {
     const char* arg = argv[i];
@@ -404,6 +416,10 @@ int main(int argc, char** argv) {
       seed = static_cast<unsigned>(std::strtoul(arg + 7, nullptr, 10));
     } else if (std::strncmp(arg, "--n=", 4) == 0) {
       n = std::atoi(arg + 4);
+    } else if (std::strcmp(arg, "--noise=angle") == 0) {
+      noise_per_axis = false;
+    } else if (std::strcmp(arg, "--noise=per-axis") == 0) {
+      noise_per_axis = true;
     } else if (std::strcmp(arg, "--stats") == 0) {
       stats = true;
     } else if (std::strncmp(arg, "--set=", 6) == 0 &&
@@ -412,7 +428,8 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: %s [--detections=1000] [--seed=1] [--n=30] "
-                   "[--set=<option>=<value>]... [--stats]\n",
+                   "[--noise=angle|per-axis] [--set=<option>=<value>]... "
+                   "[--stats]\n",
                    argv[0]);
       return 2;
     }
@@ -426,5 +443,5 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", status.message().c_str());
     return 2;
   }
-  return symba::Run(detections, seed, n, options, stats);
+  return symba::Run(detections, seed, n, noise_per_axis, options, stats);
 }

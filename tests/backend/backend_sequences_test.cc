@@ -708,19 +708,15 @@ std::pair<double, double> CloudErrors(bool merge_modes) {
   const double a = 0.03;
   const double b = 0.02;
   EXPECT_TRUE(backend
-                  ->AddKeyframe(CloudKeyframe(0,
-                                              {{a, 0, 0},
-                                               {-a, 0, 0},
-                                               {0, a, 0},
-                                               {0, -a, 0}}))
+                  ->AddKeyframe(CloudKeyframe(
+                      0, {{a, 0, 0}, {-a, 0, 0}, {0, a, 0}, {0, -a, 0}}))
                   .ok());
-  EXPECT_TRUE(backend
-                  ->AddKeyframe(CloudKeyframe(1,
-                                              {{b, b, 0.01},
-                                               {-b, b, 0.01},
-                                               {b, -b, -0.01},
-                                               {-b, -b, -0.01}}))
-                  .ok());
+  EXPECT_TRUE(
+      backend
+          ->AddKeyframe(CloudKeyframe(
+              1,
+              {{b, b, 0.01}, {-b, b, 0.01}, {b, -b, -0.01}, {-b, -b, -0.01}}))
+          .ok());
   EXPECT_TRUE(backend->OptimizeBatch().ok());
   const std::vector<MapObjectEstimate> objects = backend->Objects();
   EXPECT_EQ(objects.size(), 1u);

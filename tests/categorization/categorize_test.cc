@@ -523,6 +523,28 @@ TEST(CategorizeTest, TargetCellDecisionsAndTolerances) {
   }
 }
 
+// Two adjacent 6-fold modes pin the axis only through one 60-degree
+// relative rotation. At 5 degrees RMS rotation angle (5 / sqrt(3) per axis,
+// the benchmark's default reading) the target holds; at 5 degrees per axis
+// the median is at the information limit, 1.18 * 5 * sqrt(2 / 13.5) = 2.26
+// degrees, and within 10 % of it (docs/categorization.md).
+TEST(CategorizeTest, TwoAdjacentSixFoldModesReachTheTargetAndTheLimit) {
+  const HypothesisSetSpec rms_angle =
+      Spec(SymmetryType::kDiscrete, 6, {0, 1}, 5.0 / std::sqrt(3.0), 0.1);
+  const CellResult r = RunCell(rms_angle, 200, 7);
+  EXPECT_GE(r.correct, 0.98 * r.count);
+  EXPECT_LT(Median(r.axis_error), 2.0);
+  EXPECT_LT(Median(r.angle_error), 3.0);
+  EXPECT_GE(r.all_modes_found, 0.97 * r.modes_checked);
+
+  const HypothesisSetSpec per_axis =
+      Spec(SymmetryType::kDiscrete, 6, {0, 1}, 5.0, 0.1);
+  const double limit = 1.1774 * 5.0 * std::sqrt(2.0 / 13.5);
+  const double median = Median(RunCell(per_axis, 200, 8).axis_error);
+  EXPECT_GT(median, 0.85 * limit);
+  EXPECT_LT(median, 1.10 * limit);
+}
+
 TEST(CategorizeTest, LowNoiseCellsAreExact) {
   unsigned seed = 200;
   for (double outliers : {0.0, 0.2}) {

@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -645,143 +646,81 @@ std::unique_ptr<ceres::CostFunction> ContinuousEdgeCost(int n) {
 }
 
 // ---------------------------------------------------------------------------
-// Asymmetric edge.
+// The benchmarks every object edge gets, named BM_<name>Edge<suffix>:
+//   (none)        evaluation with Jacobians, N = 1 .. 100
+//   ResidualOnly  evaluation without Jacobians, N = 30
+//   Select        picking the winner in doubles, N = 1 .. 100
+//   WinnerOnly    the winning component alone, N = 30
+//   AutoDiffAll   the autodiff-everything reference, N = 1 .. 100
+//   Ratios        interleaved ratios (RunRatios)
 
-void BM_AsymmetricEdge(benchmark::State& state) {
-  RunEvaluate(state,
-              AsymmetricEdgeCost(static_cast<int>(state.range(0))),
-              Asymmetric().parameters,
-              true);
+using ParametersOf = const Blocks& (*)();
+
+template <typename Edge>
+void RegisterEdgeBenchmarks(const std::string& name,
+                            std::unique_ptr<Edge> (*make_edge)(int),
+                            Factory edge_cost,
+                            Factory autodiff_all,
+                            ParametersOf parameters) {
+  const std::string prefix = "BM_" + name + "Edge";
+  const auto n = [](const benchmark::State& state) {
+    return static_cast<int>(state.range(0));
+  };
+  benchmark::RegisterBenchmark(prefix.c_str(), [=](benchmark::State& state) {
+    RunEvaluate(state, edge_cost(n(state)), parameters(), true);
+  })->Apply(HypothesisCounts);
+  benchmark::RegisterBenchmark(
+      (prefix + "ResidualOnly").c_str(),
+      [=](benchmark::State& state) {
+        RunEvaluate(state, edge_cost(n(state)), parameters(), false);
+      })
+      ->ArgName("N")
+      ->Arg(30);
+  benchmark::RegisterBenchmark((prefix + "Select").c_str(),
+                               [=](benchmark::State& state) {
+                                 RunSelect(
+                                     state, make_edge(n(state)), parameters());
+                               })
+      ->Apply(HypothesisCounts);
+  benchmark::RegisterBenchmark(
+      (prefix + "WinnerOnly").c_str(), [=](benchmark::State& state) {
+        RunWinnerOnly(state, make_edge(30), parameters());
+      });
+  benchmark::RegisterBenchmark(
+      (prefix + "AutoDiffAll").c_str(),
+      [=](benchmark::State& state) {
+        RunEvaluate(state, autodiff_all(n(state)), parameters(), true);
+      })
+      ->Apply(HypothesisCounts);
+  benchmark::RegisterBenchmark(
+      (prefix + "Ratios").c_str(), [=](benchmark::State& state) {
+        RunRatios(state, edge_cost, autodiff_all, parameters());
+      });
 }
-BENCHMARK(BM_AsymmetricEdge)->Apply(HypothesisCounts);
 
-void BM_AsymmetricEdgeResidualOnly(benchmark::State& state) {
-  RunEvaluate(state,
-              AsymmetricEdgeCost(static_cast<int>(state.range(0))),
-              Asymmetric().parameters,
-              false);
+bool RegisterObjectEdgeBenchmarks() {
+  RegisterEdgeBenchmarks(
+      "Asymmetric",
+      MakeAsymmetricEdge,
+      AsymmetricEdgeCost,
+      MakeAsymmetricAutoDiffAll,
+      []() -> const Blocks& { return Asymmetric().parameters; });
+  RegisterEdgeBenchmarks(
+      "Discrete",
+      MakeDiscreteEdge,
+      DiscreteEdgeCost,
+      MakeDiscreteAutoDiffAll,
+      []() -> const Blocks& { return Discrete().parameters; });
+  RegisterEdgeBenchmarks(
+      "Continuous",
+      MakeContinuousEdge,
+      ContinuousEdgeCost,
+      MakeContinuousAutoDiffAll,
+      []() -> const Blocks& { return Continuous().parameters; });
+  return true;
 }
-BENCHMARK(BM_AsymmetricEdgeResidualOnly)->ArgName("N")->Arg(30);
 
-void BM_AsymmetricEdgeSelect(benchmark::State& state) {
-  RunSelect(state,
-            MakeAsymmetricEdge(static_cast<int>(state.range(0))),
-            Asymmetric().parameters);
-}
-BENCHMARK(BM_AsymmetricEdgeSelect)->Apply(HypothesisCounts);
-
-void BM_AsymmetricEdgeWinnerOnly(benchmark::State& state) {
-  RunWinnerOnly(state, MakeAsymmetricEdge(30), Asymmetric().parameters);
-}
-BENCHMARK(BM_AsymmetricEdgeWinnerOnly);
-
-void BM_AsymmetricEdgeAutoDiffAll(benchmark::State& state) {
-  RunEvaluate(state,
-              MakeAsymmetricAutoDiffAll(static_cast<int>(state.range(0))),
-              Asymmetric().parameters,
-              true);
-}
-BENCHMARK(BM_AsymmetricEdgeAutoDiffAll)->Apply(HypothesisCounts);
-
-void BM_AsymmetricEdgeRatios(benchmark::State& state) {
-  RunRatios(state,
-            AsymmetricEdgeCost,
-            MakeAsymmetricAutoDiffAll,
-            Asymmetric().parameters);
-}
-BENCHMARK(BM_AsymmetricEdgeRatios);
-
-// ---------------------------------------------------------------------------
-// Discrete edge.
-
-void BM_DiscreteEdge(benchmark::State& state) {
-  RunEvaluate(state,
-              DiscreteEdgeCost(static_cast<int>(state.range(0))),
-              Discrete().parameters,
-              true);
-}
-BENCHMARK(BM_DiscreteEdge)->Apply(HypothesisCounts);
-
-void BM_DiscreteEdgeResidualOnly(benchmark::State& state) {
-  RunEvaluate(state,
-              DiscreteEdgeCost(static_cast<int>(state.range(0))),
-              Discrete().parameters,
-              false);
-}
-BENCHMARK(BM_DiscreteEdgeResidualOnly)->ArgName("N")->Arg(30);
-
-void BM_DiscreteEdgeSelect(benchmark::State& state) {
-  RunSelect(state,
-            MakeDiscreteEdge(static_cast<int>(state.range(0))),
-            Discrete().parameters);
-}
-BENCHMARK(BM_DiscreteEdgeSelect)->Apply(HypothesisCounts);
-
-void BM_DiscreteEdgeWinnerOnly(benchmark::State& state) {
-  RunWinnerOnly(state, MakeDiscreteEdge(30), Discrete().parameters);
-}
-BENCHMARK(BM_DiscreteEdgeWinnerOnly);
-
-void BM_DiscreteEdgeAutoDiffAll(benchmark::State& state) {
-  RunEvaluate(state,
-              MakeDiscreteAutoDiffAll(static_cast<int>(state.range(0))),
-              Discrete().parameters,
-              true);
-}
-BENCHMARK(BM_DiscreteEdgeAutoDiffAll)->Apply(HypothesisCounts);
-
-void BM_DiscreteEdgeRatios(benchmark::State& state) {
-  RunRatios(
-      state, DiscreteEdgeCost, MakeDiscreteAutoDiffAll, Discrete().parameters);
-}
-BENCHMARK(BM_DiscreteEdgeRatios);
-
-// ---------------------------------------------------------------------------
-// Continuous edge.
-
-void BM_ContinuousEdge(benchmark::State& state) {
-  RunEvaluate(state,
-              ContinuousEdgeCost(static_cast<int>(state.range(0))),
-              Continuous().parameters,
-              true);
-}
-BENCHMARK(BM_ContinuousEdge)->Apply(HypothesisCounts);
-
-void BM_ContinuousEdgeResidualOnly(benchmark::State& state) {
-  RunEvaluate(state,
-              ContinuousEdgeCost(static_cast<int>(state.range(0))),
-              Continuous().parameters,
-              false);
-}
-BENCHMARK(BM_ContinuousEdgeResidualOnly)->ArgName("N")->Arg(30);
-
-void BM_ContinuousEdgeSelect(benchmark::State& state) {
-  RunSelect(state,
-            MakeContinuousEdge(static_cast<int>(state.range(0))),
-            Continuous().parameters);
-}
-BENCHMARK(BM_ContinuousEdgeSelect)->Apply(HypothesisCounts);
-
-void BM_ContinuousEdgeWinnerOnly(benchmark::State& state) {
-  RunWinnerOnly(state, MakeContinuousEdge(30), Continuous().parameters);
-}
-BENCHMARK(BM_ContinuousEdgeWinnerOnly);
-
-void BM_ContinuousEdgeAutoDiffAll(benchmark::State& state) {
-  RunEvaluate(state,
-              MakeContinuousAutoDiffAll(static_cast<int>(state.range(0))),
-              Continuous().parameters,
-              true);
-}
-BENCHMARK(BM_ContinuousEdgeAutoDiffAll)->Apply(HypothesisCounts);
-
-void BM_ContinuousEdgeRatios(benchmark::State& state) {
-  RunRatios(state,
-            ContinuousEdgeCost,
-            MakeContinuousAutoDiffAll,
-            Continuous().parameters);
-}
-BENCHMARK(BM_ContinuousEdgeRatios);
+const bool kObjectEdgeBenchmarksRegistered = RegisterObjectEdgeBenchmarks();
 
 }  // namespace
 }  // namespace symba

@@ -358,18 +358,28 @@ class JsonReader {
   std::string path_;
 };
 
-Status ReadGroundTruthObjects(const std::string& path, GroundTruth* gt) {
-  Json root;
-  Status status = ReadJson(path, &root);
+// Reads `path` as a JSON object and finds its top-level "objects" array.
+Status ReadObjectsArray(const std::string& path,
+                        Json* root,
+                        const Json** objects) {
+  Status status = ReadJson(path, root);
   if (!status.ok()) return status;
-  const JsonReader r(path);
-  if (!root.is_object()) {
+  if (!root->is_object()) {
     return Status::Error(path + ": expected a JSON object at the top level");
   }
-  const Json* objects = nullptr;
-  status = r.Member(root, "top level", "objects", &objects);
+  const JsonReader r(path);
+  status = r.Member(*root, "top level", "objects", objects);
   if (!status.ok()) return status;
-  if (!objects->is_array()) return r.Error("objects", "expected an array");
+  if (!(*objects)->is_array()) return r.Error("objects", "expected an array");
+  return Status::Ok();
+}
+
+Status ReadGroundTruthObjects(const std::string& path, GroundTruth* gt) {
+  Json root;
+  const Json* objects = nullptr;
+  Status status = ReadObjectsArray(path, &root, &objects);
+  if (!status.ok()) return status;
+  const JsonReader r(path);
   std::set<int> ids;
   for (std::size_t i = 0; i < objects->size(); ++i) {
     const Json& json = (*objects)[i];
@@ -434,16 +444,10 @@ Status ReadGroundTruthObjects(const std::string& path, GroundTruth* gt) {
 Status ReadMapObjects(const std::string& path,
                       std::vector<MapObjectEstimate>* result) {
   Json root;
-  Status status = ReadJson(path, &root);
+  const Json* objects = nullptr;
+  Status status = ReadObjectsArray(path, &root, &objects);
   if (!status.ok()) return status;
   const JsonReader r(path);
-  if (!root.is_object()) {
-    return Status::Error(path + ": expected a JSON object at the top level");
-  }
-  const Json* objects = nullptr;
-  status = r.Member(root, "top level", "objects", &objects);
-  if (!status.ok()) return status;
-  if (!objects->is_array()) return r.Error("objects", "expected an array");
   std::set<int> ids;
   result->clear();
   for (std::size_t i = 0; i < objects->size(); ++i) {

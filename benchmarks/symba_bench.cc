@@ -229,13 +229,25 @@ double AxisError(const Run& run) {
   return Mean(values);
 }
 
+// A markdown table header: the leading columns, then one right-aligned
+// column per method.
+std::string MethodHeader(const std::vector<std::string>& leading) {
+  std::string names = "|";
+  std::string rule = "|";
+  for (const std::string& column : leading) {
+    names += " " + column + " |";
+    rule += "---|";
+  }
+  for (const MethodInfo& m : kMethods) {
+    names += " " + std::string(m.label) + " |";
+    rule += "---:|";
+  }
+  return names + "\n" + rule + "\n";
+}
+
 std::string PositionTable(const Flags& flags, const Runs& runs) {
   std::ostringstream out;
-  out << "| scene |";
-  for (const MethodInfo& m : kMethods) out << " " << m.label << " |";
-  out << "\n|---|";
-  for (int m = 0; m < kNumMethods; ++m) out << "---:|";
-  out << "\n";
+  out << MethodHeader({"scene"});
   for (const std::string& scene : flags.scenes) {
     const auto& per_method = runs.at(scene);
     double best = std::numeric_limits<double>::infinity();
@@ -263,11 +275,7 @@ std::string PositionTable(const Flags& flags, const Runs& runs) {
 
 std::string FragmentationTable(const Flags& flags, const Runs& runs) {
   std::ostringstream out;
-  out << "| scene | ground-truth object |";
-  for (const MethodInfo& m : kMethods) out << " " << m.label << " |";
-  out << "\n|---|---|";
-  for (int m = 0; m < kNumMethods; ++m) out << "---:|";
-  out << "\n";
+  out << MethodHeader({"scene", "ground-truth object"});
   for (const std::string& scene : flags.scenes) {
     const auto& per_method = runs.at(scene);
     const std::vector<ObjectEvaluation>& objects =
@@ -321,11 +329,7 @@ std::string DetailTable(const Flags& flags, const Runs& runs) {
 
 std::string TimingTable(const Flags& flags, const Runs& runs) {
   std::ostringstream out;
-  out << "| scene |";
-  for (const MethodInfo& m : kMethods) out << " " << m.label << " |";
-  out << "\n|---|";
-  for (int m = 0; m < kNumMethods; ++m) out << "---:|";
-  out << "\n";
+  out << MethodHeader({"scene"});
   for (const std::string& scene : flags.scenes) {
     out << "| " << scene << " |";
     for (int m = 0; m < kNumMethods; ++m) {

@@ -17,11 +17,22 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include "io/text_file.h"
 #include "symba/geometry/angle.h"
 #include "symba/io/replay_output.h"
+#include "symba/io/tum_trajectory.h"
 
 namespace symba {
 namespace {
+
+using internal::Approx;
+using internal::At;
+using internal::IsBlank;
+using internal::ParseDouble;
+using internal::ParseInteger;
+using internal::Quoted;
+using internal::ReadText;
+using internal::SplitLines;
 
 using Json = nlohmann::json;
 using OrderedJson = nlohmann::ordered_json;
@@ -37,60 +48,6 @@ constexpr double kAxisConsistency = 1e-3;
 std::string JoinPath(const std::string& dir, const char* name) {
   if (dir.empty() || dir.back() == '/') return dir + name;
   return dir + "/" + name;
-}
-
-std::string At(const std::string& path, int line) {
-  return path + ":" + std::to_string(line);
-}
-
-std::string Quoted(const std::string& text) { return "\"" + text + "\""; }
-
-// "%g" of a value, for messages.
-std::string Approx(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%g", value);
-  return buffer;
-}
-
-Status ReadText(const std::string& path, std::string* text) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status::Error(path + ": cannot open");
-  text->assign(std::istreambuf_iterator<char>(in),
-               std::istreambuf_iterator<char>());
-  if (in.bad()) return Status::Error(path + ": cannot read");
-  return Status::Ok();
-}
-
-// The lines of `text`, without their '\n' (and a trailing '\r').
-std::vector<std::string_view> SplitLines(const std::string& text) {
-  std::vector<std::string_view> lines;
-  std::string_view rest(text);
-  while (!rest.empty()) {
-    const std::size_t end = rest.find('\n');
-    std::string_view line = rest.substr(0, end);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    lines.push_back(line);
-    if (end == std::string_view::npos) break;
-    rest.remove_prefix(end + 1);
-  }
-  return lines;
-}
-
-bool IsBlank(std::string_view line) {
-  return line.find_first_not_of(" \t") == std::string_view::npos;
-}
-
-bool ParseDouble(std::string_view token, double* value) {
-  const char* end = token.data() + token.size();
-  const auto result = std::from_chars(token.data(), end, *value);
-  return result.ec == std::errc() && result.ptr == end && std::isfinite(*value);
-}
-
-template <typename Int>
-bool ParseInteger(std::string_view token, Int* value) {
-  const char* end = token.data() + token.size();
-  const auto result = std::from_chars(token.data(), end, *value);
-  return result.ec == std::errc() && result.ptr == end;
 }
 
 // Normalises `q` if its norm is within kUnitTolerance of 1.
@@ -119,55 +76,10 @@ double LineAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 // TUM trajectories.
 
 Status ReadTum(const std::string& path, std::vector<TrajectoryPose>* poses) {
-  std::string text;
-  Status status = ReadText(path, &text);
+  TumReadOptions options;
+  options.allow_empty = true;
+  Status status = ReadTumTrajectory(path, options, poses);
   if (!status.ok()) return status;
-  poses->clear();
-  const std::vector<std::string_view> lines = SplitLines(text);
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    const std::string_view line = lines[i];
-    const int number = static_cast<int>(i) + 1;
-    if (IsBlank(line) || line.front() == '#') continue;
-    std::vector<std::string_view> tokens;
-    std::size_t pos = 0;
-    while (true) {
-      pos = line.find_first_not_of(" \t", pos);
-      if (pos == std::string_view::npos) break;
-      const std::size_t end =
-          std::min(line.find_first_of(" \t", pos), line.size());
-      tokens.push_back(line.substr(pos, end - pos));
-      pos = end;
-    }
-    if (tokens.size() != 8) {
-      return Status::Error(At(path, number) +
-                           ": expected 8 numbers (timestamp tx ty tz qx qy "
-                           "qz qw), found " +
-                           std::to_string(tokens.size()));
-    }
-    double v[8];
-    for (int k = 0; k < 8; ++k) {
-      if (!ParseDouble(tokens[k], &v[k])) {
-        return Status::Error(At(path, number) + ": " +
-                             Quoted(std::string(tokens[k])) +
-                             " is not a finite number");
-      }
-    }
-    TrajectoryPose pose;
-    pose.timestamp = v[0];
-    pose.T_wc.t = Eigen::Vector3d(v[1], v[2], v[3]);
-    pose.T_wc.q = Eigen::Quaterniond(v[7], v[4], v[5], v[6]);
-    pose.line = number;
-    if (!NormaliseQuaternion(&pose.T_wc.q)) {
-      return Status::Error(At(path, number) + ": quaternion norm " +
-                           Approx(pose.T_wc.q.norm()) + " is not 1");
-    }
-    if (!poses->empty() && !(pose.timestamp > poses->back().timestamp)) {
-      return Status::Error(At(path, number) + ": timestamp " +
-                           std::string(tokens[0]) +
-                           " is not after the previous one");
-    }
-    poses->push_back(pose);
-  }
   if (poses->empty()) return Status::Error(path + ": no keyframes");
   return Status::Ok();
 }

@@ -53,18 +53,12 @@
 #include "symba/categorization/symmetry_type.h"
 #include "symba/common/status.h"
 #include "symba/geometry/rigid3.h"
+#include "symba/io/tum_trajectory.h"
 
 namespace symba {
 
 // Keyframes whose timestamps differ by at most this much are the same [s].
 inline constexpr double kTimestampTolerance = 1e-6;
-
-// One line of a TUM trajectory file.
-struct TrajectoryPose {
-  double timestamp = 0.0;
-  Rigid3d T_wc;
-  int line = 0;  // 1-based line in its file
-};
 
 struct GroundTruthObject {
   int id = 0;

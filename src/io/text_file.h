@@ -1,0 +1,50 @@
+// Small helpers for the line-oriented text formats symba reads (TUM
+// trajectories, the evaluation's CSV): reading a whole file, splitting it
+// into lines, strict number parsing and "FILE:LINE" message prefixes. Not
+// installed.
+#ifndef SYMBA_SRC_IO_TEXT_FILE_H_
+#define SYMBA_SRC_IO_TEXT_FILE_H_
+
+#include <charconv>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+#include "symba/common/status.h"
+
+namespace symba::internal {
+
+// The whole file as bytes; "PATH: cannot open" / "PATH: cannot read".
+Status ReadText(const std::string& path, std::string* text);
+
+// The lines of `text`, without their '\n' (and a trailing '\r').
+std::vector<std::string_view> SplitLines(const std::string& text);
+
+// The whitespace-separated (space, tab) fields of one line.
+std::vector<std::string_view> SplitFields(std::string_view line);
+
+// True if the line holds only spaces and tabs.
+bool IsBlank(std::string_view line);
+
+// The whole token is one finite double (std::from_chars, no locale).
+bool ParseDouble(std::string_view token, double* value);
+
+// The whole token is one integer of type Int.
+template <typename Int>
+bool ParseInteger(std::string_view token, Int* value) {
+  const char* end = token.data() + token.size();
+  const auto result = std::from_chars(token.data(), end, *value);
+  return result.ec == std::errc() && result.ptr == end;
+}
+
+// "PATH:LINE", the prefix of every message about one line of a file.
+std::string At(const std::string& path, int line);
+// "\"TEXT\"".
+std::string Quoted(const std::string& text);
+// "%g" of a value, for messages.
+std::string Approx(double value);
+
+}  // namespace symba::internal
+
+#endif  // SYMBA_SRC_IO_TEXT_FILE_H_

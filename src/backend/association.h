@@ -1,0 +1,78 @@
+// Data association (method notes Sec. 5): which map object a detection
+// belongs to, gated on the parameters both can agree on. Pure functions of
+// the map objects and the options, so they can be tested on hand-built
+// object sets. Not installed.
+//
+//   SH / MH     6 DoF: position within gate_position and rotation within
+//               gate_rotation of any used hypothesis; score d_t / gate_t +
+//               d_r / gate_r, lowest wins.
+//   symba       position within gate_position, then
+//               symmetric object        axis within gate_axis (5 DoF);
+//               symmetric detection,
+//               asymmetric object       the detection's axis carried by the
+//                                       object's pose within gate_axis: the
+//                                       object is upgraded;
+//               both asymmetric         6 DoF with the nearest inlier
+//                                       hypothesis within gate_rotation;
+//                                       failing that, a relative rotation
+//                                       that is a twist about an axis (the
+//                                       prior's within gate_axis, or its own)
+//                                       upgrades the object to discrete.
+//   angles      a discrete object's angle within gate_angle of the twist
+//               the detection shows, else a new angle.
+#ifndef SYMBA_SRC_BACKEND_ASSOCIATION_H_
+#define SYMBA_SRC_BACKEND_ASSOCIATION_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "backend/backend_state.h"
+#include "symba/backend/backend_options.h"
+#include "symba/categorization/categorize.h"
+
+namespace symba::internal {
+
+using ObjectList = std::vector<std::unique_ptr<ObjectState>>;
+
+// Angle between two axes, ignoring their signs, in [0, pi/2].
+double AxisDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
+
+// SH / MH: the best object of `class_name` within the 6-DoF gates of any
+// candidate world pose T_wo, or -1.
+int FindSixDofMatch(const ObjectList& objects,
+                    const std::string& class_name,
+                    const std::vector<Rigid3d>& T_wo_candidates,
+                    const BackendOptions& options);
+
+struct SymbaMatch {
+  int object = -1;
+  bool upgrade = false;  // an asymmetric object that must become symmetric
+  Eigen::Vector3d a_o = Eigen::Vector3d::Zero();  // its axis, if so
+};
+
+// symba: the best object for a categorized detection seen from T_wc, or
+// object = -1. `prior` may be null.
+SymbaMatch FindSymbaMatch(const ObjectList& objects,
+                          const Rigid3d& T_wc,
+                          const CategorizedDetection& cat,
+                          const std::string& class_name,
+                          const std::vector<PoseHypothesis>& hyps,
+                          const ClassPrior* prior,
+                          const BackendOptions& options);
+
+// A discrete object's angle whose rotation is within `gate` (rad, twist
+// about a_o) of R_wo, or -1.
+int FindAngle(const ObjectState& object,
+              const Eigen::Quaterniond& R_wo,
+              double gate);
+// The theta a new angle of `object` showing R_wo gets: theta_0 plus the
+// twist from angle 0 (or from the anchor when there is no angle yet).
+double NewAngleTheta(const ObjectState& object, const Eigen::Quaterniond& R_wo);
+
+}  // namespace symba::internal
+
+#endif  // SYMBA_SRC_BACKEND_ASSOCIATION_H_

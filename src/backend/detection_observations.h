@@ -1,0 +1,54 @@
+// Turning one detection into the observations its object edges are built
+// from, per method (method notes Sec. 4; docs/backend.md "Mode merging").
+// Pure functions of the detection, its categorization and the options; the
+// keyframe and the discrete angle of each observation are set by the
+// caller. Not installed.
+#ifndef SYMBA_SRC_BACKEND_DETECTION_OBSERVATIONS_H_
+#define SYMBA_SRC_BACKEND_DETECTION_OBSERVATIONS_H_
+
+#include <vector>
+
+#include "backend/backend_state.h"
+#include "symba/backend/backend_options.h"
+#include "symba/backend/keyframe_input.h"
+#include "symba/categorization/categorize.h"
+
+namespace symba::internal {
+
+// The index of the highest-weight hypothesis among `indices` (ties: the
+// first).
+int HighestWeight(const std::vector<PoseHypothesis>& hyps,
+                  const std::vector<int>& indices);
+// 0, 1, ..., n - 1.
+std::vector<int> AllIndices(size_t n);
+
+// SH and MH: the highest-weight hypothesis (SH) or every hypothesis (MH) as
+// 6-DoF components of one observation.
+struct SixDofObservation {
+  int best = 0;           // the highest-weight hypothesis
+  std::vector<int> used;  // the hypotheses in the edge
+  ObjectObservation observation;
+};
+SixDofObservation MakeSixDofObservation(const std::vector<PoseHypothesis>& hyps,
+                                        Method method,
+                                        const Matrix6d& sqrt_info);
+
+// symba: the observations of a categorized detection.
+//   per_angle (the map object is discrete and the detection is not
+//   continuous): one observation per mode, a discrete cluster (R_base
+//   Rot(a_o, theta_c), t_co) or an asymmetric detection's inliers at
+//   T_co_base;
+//   otherwise one observation of the inliers (an asymmetric object's 6-DoF
+//   pose, or a continuous edge's positions and axis).
+// With merge_modes each mode is one component at its mean with the modes'
+// total weight; without, every member hypothesis is a component.
+std::vector<ObjectObservation> MakeSymbaObservations(
+    const CategorizedDetection& cat,
+    const std::vector<PoseHypothesis>& hyps,
+    const Matrix6d& sqrt_info,
+    bool merge_modes,
+    bool per_angle);
+
+}  // namespace symba::internal
+
+#endif  // SYMBA_SRC_BACKEND_DETECTION_OBSERVATIONS_H_

@@ -1,0 +1,114 @@
+// Backend::Impl: a new keyframe's initial pose (the previous optimised pose
+// moved by the odometry or the front end's relative motion), its camera
+// motion factor and its point observations (reprojection and, with a depth,
+// the point depth factor; a point is created from its first observation
+// with a depth).
+#include <memory>
+#include <utility>
+
+#include "backend/backend_impl.h"
+#include "symba/factors/point_depth_factor.h"
+#include "symba/factors/relative_pose_factor.h"
+#include "symba/factors/reprojection_factor.h"
+
+namespace symba {
+
+using internal::FactorRecord;
+using internal::KeyframeState;
+using internal::PointState;
+
+namespace {
+
+Rigid3d Normalized(Rigid3d T) {
+  T.q.normalize();
+  return T;
+}
+
+}  // namespace
+
+Rigid3d Backend::Impl::InitialPose(const KeyframeInput& input) const {
+  if (keyframes_.empty()) return Normalized(*input.T_wc);
+  const Rigid3d T_w_prev = keyframes_.back()->T_wc();
+  if (input.odometry) {
+    return Normalized(T_w_prev * Normalized(input.odometry->T_prev_cur));
+  }
+  // The front end's relative motion since the last keyframe it posed,
+  // applied to that keyframe's optimised pose.
+  if (last_frontend_keyframe_ >= 0) {
+    const KeyframeState& anchor = *keyframes_[last_frontend_keyframe_];
+    const Rigid3d motion =
+        anchor.T_wc_frontend->Inverse() * Normalized(*input.T_wc);
+    return Normalized(anchor.T_wc() * motion);
+  }
+  return Normalized(*input.T_wc);
+}
+
+void Backend::Impl::AddCameraFactors(int k, const KeyframeInput& input) {
+  KeyframeState& kf = *keyframes_[k];
+  int other = -1;
+  Rigid3d T_other_cur;
+  Matrix6d sqrt_info;
+  if (input.odometry && k > 0) {
+    other = k - 1;
+    T_other_cur = Normalized(input.odometry->T_prev_cur);
+    sqrt_info =
+        IsotropicPoseSqrtInfo(input.odometry->sigma_t, input.odometry->sigma_r);
+  } else if (input.T_wc && last_frontend_keyframe_ >= 0) {
+    other = last_frontend_keyframe_;
+    T_other_cur =
+        keyframes_[other]->T_wc_frontend->Inverse() * Normalized(*input.T_wc);
+    sqrt_info = IsotropicPoseSqrtInfo(options_.frontend_sigma_t,
+                                      options_.frontend_sigma_r);
+  }
+  if (other < 0) return;
+  KeyframeState& prev = *keyframes_[other];
+  FactorRecord record;
+  record.cost.reset(RelativePoseFactor::Create(T_other_cur, sqrt_info));
+  record.blocks = {prev.q, prev.t, kf.q, kf.t};
+  record.keyframe = k;
+  record.keyframe2 = other;
+  AddFactor(std::move(record));
+}
+
+void Backend::Impl::AddPointObservations(int k, const KeyframeInput& input) {
+  KeyframeState& kf = *keyframes_[k];
+  const Eigen::Matrix2d sqrt_info =
+      Eigen::Matrix2d::Identity() / options_.point_sigma_px;
+  for (const PointObservation& obs : input.points) {
+    auto it = point_index_.find(obs.id);
+    if (it == point_index_.end()) {
+      if (!obs.depth) continue;  // a point is created from a depth
+      auto point = std::make_unique<PointState>();
+      point->id = obs.id;
+      const Eigen::Vector3d p_c(
+          (obs.uv.x() - intrinsics_->cx) / intrinsics_->fx * *obs.depth,
+          (obs.uv.y() - intrinsics_->cy) / intrinsics_->fy * *obs.depth,
+          *obs.depth);
+      Eigen::Map<Eigen::Vector3d> p_w(point->p);
+      p_w = kf.T_wc() * p_c;
+      it = point_index_.emplace(obs.id, static_cast<int>(points_.size())).first;
+      points_.push_back(std::move(point));
+      ++statistics_.points;
+    }
+    FactorRecord record;
+    record.cost.reset(
+        ReprojectionFactor::Create(*intrinsics_, obs.uv, sqrt_info));
+    record.loss = point_loss_.get();
+    record.blocks = {kf.q, kf.t, points_[it->second]->p};
+    record.keyframe = k;
+    record.point = it->second;
+    AddFactor(std::move(record));
+    if (obs.depth && options_.point_depth_sigma_relative > 0.0) {
+      FactorRecord depth;
+      depth.cost.reset(PointDepthFactor::Create(
+          *obs.depth, options_.point_depth_sigma_relative * *obs.depth));
+      depth.loss = point_loss_.get();
+      depth.blocks = {kf.q, kf.t, points_[it->second]->p};
+      depth.keyframe = k;
+      depth.point = it->second;
+      AddFactor(std::move(depth));
+    }
+  }
+}
+
+}  // namespace symba

@@ -14,20 +14,37 @@ double AxisDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized()))));
 }
 
+double PositionGate(const ObjectState& object,
+                    const AssociationScope& scope,
+                    const BackendOptions& options) {
+  if (!scope.sigma_t || options.gate_sigmas <= 0.0) {
+    return options.gate_position;
+  }
+  const double n = std::max<size_t>(1, object.observations.size());
+  const double variance = *scope.sigma_t * *scope.sigma_t * (1.0 + 1.0 / n) +
+                          scope.prediction_variance;
+  return std::min(options.gate_position,
+                  options.gate_sigmas * std::sqrt(variance));
+}
+
 int FindSixDofMatch(const ObjectList& objects,
                     const std::string& class_name,
                     const std::vector<Rigid3d>& T_wo_candidates,
+                    const AssociationScope& scope,
                     const BackendOptions& options) {
   int best = -1;
   double best_score = std::numeric_limits<double>::infinity();
   for (size_t o = 0; o < objects.size(); ++o) {
     const ObjectState& object = *objects[o];
-    if (object.class_name != class_name) continue;
+    if (object.class_name != class_name || object.status != scope.status) {
+      continue;
+    }
+    const double gate_t = PositionGate(object, scope, options);
     const Eigen::Quaterniond R_wo = object.Rotation(-1);
     for (const Rigid3d& T_wo : T_wo_candidates) {
       const double d_t = (T_wo.t - object.position()).norm();
       const double d_r = T_wo.q.angularDistance(R_wo);
-      if (d_t > options.gate_position || d_r > options.gate_rotation) {
+      if (d_t > gate_t || d_r > options.gate_rotation) {
         continue;
       }
       const double score =
@@ -96,6 +113,7 @@ SymbaMatch FindSymbaMatch(const ObjectList& objects,
                           const std::string& class_name,
                           const std::vector<PoseHypothesis>& hyps,
                           const ClassPrior* prior,
+                          const AssociationScope& scope,
                           const BackendOptions& options) {
   const bool det_symmetric = cat.type != SymmetryType::kAsymmetric;
   const Eigen::Vector3d t_w = T_wc * cat.t_co;
@@ -105,9 +123,11 @@ SymbaMatch FindSymbaMatch(const ObjectList& objects,
   double best_score = std::numeric_limits<double>::infinity();
   for (size_t o = 0; o < objects.size(); ++o) {
     const ObjectState& object = *objects[o];
-    if (object.class_name != class_name) continue;
+    if (object.class_name != class_name || object.status != scope.status) {
+      continue;
+    }
     const double d_t = (t_w - object.position()).norm();
-    if (d_t > options.gate_position) continue;
+    if (d_t > PositionGate(object, scope, options)) continue;
     const bool obj_symmetric = object.type != SymmetryType::kAsymmetric;
     SymbaMatch candidate;
     candidate.object = static_cast<int>(o);
@@ -138,7 +158,9 @@ SymbaMatch FindSymbaMatch(const ObjectList& objects,
         if (!UpgradeAxis(R_wo, nearest, prior, options, &candidate.a_o)) {
           continue;
         }
-        candidate.upgrade = true;
+        candidate.flip = true;
+        candidate.flip_angle = std::abs(TwistAngle(
+            Eigen::Quaterniond(R_wo.conjugate() * nearest), candidate.a_o));
         d_angle = options.gate_axis;  // ranks after any 6-DoF match
         gate = options.gate_axis;
       }

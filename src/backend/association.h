@@ -17,13 +17,21 @@
 //                                       failing that, a relative rotation
 //                                       that is a twist about an axis (the
 //                                       prior's within gate_axis, or its own)
-//                                       upgrades the object to discrete.
+//                                       is a flip: evidence that may upgrade
+//                                       the object to discrete once repeated
+//                                       (upgrade_evidence.h).
+//   Only objects of the requested status take part (the backend tries the
+//   confirmed map first, then tentative objects). The position gate is
+//   gate_position, or, once the detection's noise is known, that noise
+//   with the object's (n observations) and the predicted camera's, times
+//   gate_sigmas, if that is smaller (PositionGate).
 //   angles      a discrete object's angle within gate_angle of the twist
 //               the detection shows, else a new angle.
 #ifndef SYMBA_SRC_BACKEND_ASSOCIATION_H_
 #define SYMBA_SRC_BACKEND_ASSOCIATION_H_
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,17 +49,37 @@ using ObjectList = std::vector<std::unique_ptr<ObjectState>>;
 // Angle between two axes, ignoring their signs, in [0, pi/2].
 double AxisDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
 
+// Which objects an association looks at, and the detection's position
+// noise (m) where it is known.
+struct AssociationScope {
+  ObjectStatus status = ObjectStatus::kConfirmed;
+  std::optional<double> sigma_t;
+  // The variance the predicted camera pose adds to the detection's world
+  // position (m^2): one step of the camera motion noise at its distance.
+  double prediction_variance = 0.0;
+};
+
+// The position gate (m) of `object` for a detection in `scope`:
+// min(gate_position, gate_sigmas * sqrt(sigma_t^2 (1 + 1/n) +
+// prediction_variance)) once sigma_t is known, gate_position before.
+double PositionGate(const ObjectState& object,
+                    const AssociationScope& scope,
+                    const BackendOptions& options);
+
 // SH / MH: the best object of `class_name` within the 6-DoF gates of any
 // candidate world pose T_wo, or -1.
 int FindSixDofMatch(const ObjectList& objects,
                     const std::string& class_name,
                     const std::vector<Rigid3d>& T_wo_candidates,
+                    const AssociationScope& scope,
                     const BackendOptions& options);
 
 struct SymbaMatch {
   int object = -1;
   bool upgrade = false;  // an asymmetric object that must become symmetric
-  Eigen::Vector3d a_o = Eigen::Vector3d::Zero();  // its axis, if so
+  bool flip = false;     // a twist away from an asymmetric object's pose
+  Eigen::Vector3d a_o = Eigen::Vector3d::Zero();  // the axis, if either
+  double flip_angle = 0.0;  // the twist about a_o (rad, [0, pi]), if a flip
 };
 
 // symba: the best object for a categorized detection seen from T_wc, or
@@ -62,6 +90,7 @@ SymbaMatch FindSymbaMatch(const ObjectList& objects,
                           const std::string& class_name,
                           const std::vector<PoseHypothesis>& hyps,
                           const ClassPrior* prior,
+                          const AssociationScope& scope,
                           const BackendOptions& options);
 
 // A discrete object's angle whose rotation is within `gate` (rad, twist

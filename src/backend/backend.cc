@@ -57,8 +57,8 @@ Backend::Impl::Impl(const BackendOptions& options,
       intrinsics_(intrinsics),
       class_priors_(class_priors),
       object_loss_(MakeLoss(options.object_loss, options.object_loss_scale)),
-      point_loss_(
-          std::make_unique<ceres::HuberLoss>(options.point_loss_scale)) {}
+      point_loss_(std::make_unique<ceres::HuberLoss>(options.point_loss_scale)),
+      noise_(options.noise_window, options.noise_min_samples) {}
 
 int Backend::Impl::WindowStart() const {
   return std::max(0,
@@ -85,6 +85,7 @@ Status Backend::Impl::AddKeyframe(const KeyframeInput& input) {
   kf->id = input.id;
   kf->timestamp = input.timestamp;
   internal::WritePose(InitialPose(input), kf->q, kf->t);
+  kf->T_wc_chain = ChainPose(input);
   if (input.T_wc) kf->T_wc_frontend = Normalized(*input.T_wc);
   const int k = static_cast<int>(keyframes_.size());
   keyframes_.push_back(std::move(kf));
@@ -99,6 +100,17 @@ Status Backend::Impl::AddKeyframe(const KeyframeInput& input) {
                  input.detections[d],
                  options_.method == Method::kSymba ? &categorized_[d] : nullptr,
                  DetectionId(input, d));
+  }
+  UpdateTentativeObjects(k);
+  if (options_.min_support > 0.0) PruneUnsupportedObjects(k);
+  if (options_.estimate_noise) {
+    std::vector<std::string> classes;
+    for (const DetectionInput& det : input.detections) {
+      classes.push_back(det.class_name);
+    }
+    std::sort(classes.begin(), classes.end());
+    classes.erase(std::unique(classes.begin(), classes.end()), classes.end());
+    UpdateDetectionNoise(classes);
   }
   return Status::Ok();
 }
@@ -143,10 +155,52 @@ void Backend::Impl::AddDetection(int k,
                          : AddSingleOrMultiHypothesis(k, detection, sqrt_info);
   const SymmetryType type =
       categorized != nullptr ? categorized->type : SymmetryType::kAsymmetric;
+  NoteViewCone(categorized != nullptr ? categorized->t_co
+                                      : detection.hypotheses.front().T_co.t);
   ++objects_[object]->detections;
   ++statistics_.detections;
   assignments_.push_back(
       {keyframes_[k]->id, detection_id, objects_[object]->id, type});
+  NoteDetection(object, k, static_cast<int>(assignments_.size()) - 1);
+}
+
+void Backend::Impl::SetObservationNoise(const DetectionInput& detection,
+                                        ObjectObservation* observation) const {
+  // A detection that gives a sigma is calibrated: what it gives is taken
+  // as it is, the options' default fills in the other. Without either: the
+  // default, or with estimation the floor for an uncalibrated detector.
+  const bool calibrated = detection.sigma_t || detection.sigma_r;
+  const bool uncalibrated_floor = !calibrated && options_.estimate_noise;
+  observation->sigma_t = detection.sigma_t.value_or(
+      uncalibrated_floor ? options_.uncalibrated_sigma_t
+                         : options_.hypothesis_sigma_t);
+  observation->sigma_r = detection.sigma_r.value_or(
+      uncalibrated_floor ? options_.uncalibrated_sigma_r
+                         : options_.hypothesis_sigma_r);
+  observation->claimed_t = calibrated;
+  observation->claimed_r = calibrated;
+}
+
+internal::AssociationScope Backend::Impl::Scope(
+    const DetectionInput& detection, int k, const Eigen::Vector3d& t_co) const {
+  internal::AssociationScope scope;
+  scope.sigma_t = GateSigma(detection);
+  const KeyframeState& kf = *keyframes_[k];
+  scope.prediction_variance =
+      kf.motion_variance_t + t_co.squaredNorm() * kf.motion_variance_r;
+  return scope;
+}
+
+std::optional<double> Backend::Impl::GateSigma(
+    const DetectionInput& detection) const {
+  const auto it = applied_noise_.find(detection.class_name);
+  const std::optional<double> estimate =
+      it == applied_noise_.end() ? std::nullopt : it->second.sigma_t;
+  // The gate wants the scatter itself, not the floor of the weighting.
+  if (detection.sigma_t || detection.sigma_r) {
+    return detection.sigma_t.value_or(options_.hypothesis_sigma_t);
+  }
+  return estimate;
 }
 
 int Backend::Impl::AddSingleOrMultiHypothesis(int k,
@@ -160,14 +214,27 @@ int Backend::Impl::AddSingleOrMultiHypothesis(int k,
   for (int j : six_dof.used) {
     T_wo_candidates.push_back(T_wc * Normalized(hyps[j].T_co));
   }
+  // The map first, then the tentative objects.
+  internal::AssociationScope scope =
+      Scope(detection, k, six_dof.observation.T_co_best.t);
   int o = internal::FindSixDofMatch(
-      objects_, detection.class_name, T_wo_candidates, options_);
+      objects_, detection.class_name, T_wo_candidates, scope, options_);
   if (o < 0) {
-    o = CreateObject(detection.class_name, SymmetryType::kAsymmetric);
+    scope.status = internal::ObjectStatus::kTentative;
+    o = internal::FindSixDofMatch(
+        objects_, detection.class_name, T_wo_candidates, scope, options_);
+  }
+  if (o < 0) {
+    o = CreateObject(detection.class_name, SymmetryType::kAsymmetric, k);
     internal::WritePose(
         T_wc * six_dof.observation.T_co_best, objects_[o]->q, objects_[o]->t);
   }
   six_dof.observation.keyframe = k;
+  SetObservationNoise(detection, &six_dof.observation);
+  if (options_.estimate_noise) {
+    SampleNoise(
+        o, k, six_dof.observation.T_co_best.t, six_dof.observation.T_co_best.q);
+  }
   AddObservation(o, std::move(six_dof.observation));
   return o;
 }
@@ -177,23 +244,48 @@ int Backend::Impl::AddSymba(int k,
                             const CategorizedDetection& cat,
                             const Matrix6d& sqrt_info) {
   const Rigid3d T_wc = keyframes_[k]->T_wc();
-  const internal::SymbaMatch match =
-      internal::FindSymbaMatch(objects_,
-                               T_wc,
-                               cat,
-                               detection.class_name,
-                               detection.hypotheses,
-                               PriorOf(detection.class_name),
-                               options_);
+  // The map first, then the tentative objects.
+  internal::AssociationScope scope = Scope(detection, k, cat.t_co);
+  auto find = [&]() {
+    return internal::FindSymbaMatch(objects_,
+                                    T_wc,
+                                    cat,
+                                    detection.class_name,
+                                    detection.hypotheses,
+                                    PriorOf(detection.class_name),
+                                    scope,
+                                    options_);
+  };
+  internal::SymbaMatch match = find();
+  if (match.object < 0) {
+    scope.status = internal::ObjectStatus::kTentative;
+    match = find();
+  }
   int o = match.object;
   if (o < 0) {
-    o = CreateSymbaObject(detection.class_name, cat, T_wc);
+    o = CreateSymbaObject(detection.class_name, cat, T_wc, k);
   } else if (match.upgrade) {
+    internal::UpgradeRecord record;
+    record.keyframe = k;
+    record.evidence = 1;
     UpgradeObject(o,
                   cat.type == SymmetryType::kContinuous
                       ? SymmetryType::kContinuous
                       : SymmetryType::kDiscrete,
-                  match.a_o);
+                  match.a_o,
+                  record);
+  } else if (match.flip && !RecordFlip(o, k, match)) {
+    // A rotation outlier: it joins the object without an edge.
+    if (options_.estimate_noise) SampleNoise(o, k, cat.t_co, std::nullopt);
+    return o;
+  }
+  if (options_.estimate_noise) {
+    SampleNoise(o,
+                k,
+                cat.t_co,
+                cat.type == SymmetryType::kAsymmetric
+                    ? std::optional<Eigen::Quaterniond>(cat.T_co_base.q)
+                    : std::nullopt);
   }
   // Edges: one per discrete angle the detection shows, else one.
   const bool per_angle = objects_[o]->type == SymmetryType::kDiscrete &&
@@ -205,6 +297,7 @@ int Backend::Impl::AddSymba(int k,
                                        options_.merge_modes,
                                        per_angle)) {
     observation.keyframe = k;
+    SetObservationNoise(detection, &observation);
     if (per_angle) {
       observation.angle = MatchOrAddAngle(o, (T_wc * observation.T_co_best).q);
     }
@@ -227,6 +320,12 @@ int Backend::Impl::AddFactor(FactorRecord record) {
   return f;
 }
 
+bool Backend::Impl::InMap(const FactorRecord& record) const {
+  return !record.retired &&
+         (record.object < 0 || objects_[record.object]->status ==
+                                   internal::ObjectStatus::kConfirmed);
+}
+
 void Backend::Impl::MarkActive(int first_free,
                                std::vector<char>* keyframe_free,
                                std::vector<char>* active) const {
@@ -239,7 +338,7 @@ void Backend::Impl::MarkActive(int first_free,
     (*keyframe_free)[k] = k > 0;
     for (int f : keyframes_[k]->factors) {
       const FactorRecord& record = problem_.factor(f);
-      if (record.retired) continue;
+      if (!InMap(record)) continue;
       if (record.object >= 0) object_free[record.object] = 1;
       if (record.point >= 0) point_free[record.point] = 1;
     }
@@ -247,7 +346,7 @@ void Backend::Impl::MarkActive(int first_free,
   // Active: every factor of a free keyframe, object or point.
   active->assign(problem_.size(), 0);
   auto mark = [&](const std::vector<int>& list) {
-    for (int f : list) (*active)[f] = !problem_.factor(f).retired;
+    for (int f : list) (*active)[f] = InMap(problem_.factor(f));
   };
   for (int k = first_free; k < n; ++k) mark(keyframes_[k]->factors);
   for (size_t o = 0; o < objects_.size(); ++o) {
@@ -331,12 +430,18 @@ std::vector<KeyframeEstimate> Backend::Impl::Keyframes() const {
 std::vector<MapObjectEstimate> Backend::Impl::Objects() const {
   std::vector<MapObjectEstimate> estimates;
   for (const auto& object : objects_) {
+    if (object->status != internal::ObjectStatus::kConfirmed) continue;
     MapObjectEstimate e;
     e.id = object->id;
     e.class_name = object->class_name;
     e.symmetry = object->type;
     e.t_wo = object->position();
     e.observations = object->detections;
+    if (object->upgrade) {
+      const internal::UpgradeRecord& u = *object->upgrade;
+      e.upgrade = MapObjectEstimate::Upgrade{
+          keyframes_[u.keyframe]->id, u.evidence, u.order, u.angle};
+    }
     if (object->type == SymmetryType::kAsymmetric) {
       e.poses.push_back(Rigid3d(object->Rotation(-1), e.t_wo));
     } else {

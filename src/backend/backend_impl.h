@@ -24,6 +24,7 @@
 
 #include "backend/association.h"
 #include "backend/backend_state.h"
+#include "backend/detection_noise.h"
 #include "backend/window_problem.h"
 #include "symba/backend/backend.h"
 #include "symba/manifolds/axis_manifold.h"
@@ -50,6 +51,8 @@ class Backend::Impl {
  private:
   // Keyframe pose initialisation and camera factors (keyframe_factors.cc).
   Rigid3d InitialPose(const KeyframeInput& input) const;
+  // The same from the front end alone (KeyframeState::T_wc_chain).
+  Rigid3d ChainPose(const KeyframeInput& input) const;
   void AddCameraFactors(int k, const KeyframeInput& input);
   void AddPointObservations(int k, const KeyframeInput& input);
 
@@ -68,22 +71,62 @@ class Backend::Impl {
                const DetectionInput& detection,
                const CategorizedDetection& cat,
                const Matrix6d& sqrt_info);
+  // symba: a flip joins the object without an edge, or upgrades it once
+  // the evidence suffices (upgrade_evidence.h). True if it upgraded.
+  bool RecordFlip(int o, int k, const internal::SymbaMatch& match);
+  // The detection's noise as given or the options' default, and the
+  // position noise the association gates it with.
+  void SetObservationNoise(const DetectionInput& detection,
+                           internal::ObjectObservation* observation) const;
+  std::optional<double> GateSigma(const DetectionInput& detection) const;
 
-  // The solve's free set and active factors (backend.cc).
+  // The solve's free set and active factors (backend.cc). A factor is in
+  // the map unless it was retired or its object is not confirmed.
+  bool InMap(const internal::FactorRecord& record) const;
   void MarkActive(int first_free,
                   std::vector<char>* keyframe_free,
                   std::vector<char>* active) const;
   int FixKeyframesOutsideWindow(const std::vector<char>& keyframe_free);
 
   // Map objects (map_objects.cc).
-  int CreateObject(const std::string& class_name, SymmetryType type);
+  int CreateObject(const std::string& class_name, SymmetryType type, int k);
+  // A detection of object o in keyframe k, reported as assignment a.
+  void NoteDetection(int o, int k, int assignment);
+  // Confirms tentative objects with enough keyframes and drops those whose
+  // timeout passed (bounded by the tentative objects).
+  void UpdateTentativeObjects(int k);
+  void DropObject(int o);
+  // Widens the view cone (bearing, depth) detections were seen in.
+  void NoteViewCone(const Eigen::Vector3d& t_co);
+  // Counts the keyframe for every confirmed object in view and drops those
+  // detected in too few of their views (min_support).
+  void PruneUnsupportedObjects(int k);
+  // A detection of object o in keyframe k (its position, and its rotation
+  // where it has one) as noise samples of the class, taken at the front
+  // end's pose of the keyframe (detection_noise.h).
+  void SampleNoise(int o,
+                   int k,
+                   const Eigen::Vector3d& t_co,
+                   const std::optional<Eigen::Quaterniond>& R_co);
+  // The association scope of a detection in keyframe k.
+  internal::AssociationScope Scope(const DetectionInput& detection,
+                                   int k,
+                                   const Eigen::Vector3d& t_co) const;
+  // Each class's noise after a keyframe; rebuilds the edges of a class whose
+  // noise moved by more than noise_update_ratio.
+  void UpdateDetectionNoise(const std::vector<std::string>& classes);
   int CreateSymbaObject(const std::string& class_name,
                         const CategorizedDetection& cat,
-                        const Rigid3d& T_wc);
-  void UpgradeObject(int o, SymmetryType type, const Eigen::Vector3d& a_o);
+                        const Rigid3d& T_wc,
+                        int k);
+  void UpgradeObject(int o,
+                     SymmetryType type,
+                     const Eigen::Vector3d& a_o,
+                     const internal::UpgradeRecord& record);
   int MatchOrAddAngle(int o, const Eigen::Quaterniond& R_wo);
   void AddObservation(int o, internal::ObjectObservation observation);
-  void AddObjectFactor(int o, const internal::ObjectObservation& observation);
+  // The edge of object o's observation i.
+  void AddObjectFactor(int o, int i);
   void RebuildObjectFactors(int o);
   void ReanchorDriftedObjects();
   std::unique_ptr<ceres::CostFunction> BuildObjectEdge(
@@ -110,6 +153,14 @@ class Backend::Impl {
   // One categorization per detection of the keyframe being added, reused
   // between keyframes.
   std::vector<CategorizedDetection> categorized_;
+  // Real detectors: tentative objects (indices), objects per class, the
+  // noise estimator and the noise each class's edges are built with.
+  std::vector<int> tentative_;
+  double view_cone_cos_ = 1.0;  // cos of the widest detection bearing
+  double view_depth_ = 0.0;     // the largest detection distance (m)
+  std::map<std::string, std::vector<int>> objects_by_class_;
+  internal::DetectionNoiseEstimator noise_;
+  std::map<std::string, internal::ClassNoise> applied_noise_;
   internal::WindowProblem problem_;
 };
 

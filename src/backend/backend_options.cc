@@ -81,6 +81,9 @@ Status BackendOptions::Validate() const {
       {"gate_rotation", gate_rotation},
       {"gate_angle", gate_angle},
       {"reanchor_angle", reanchor_angle},
+      {"upgrade_angle_tolerance", upgrade_angle_tolerance},
+      {"uncalibrated_sigma_t", uncalibrated_sigma_t},
+      {"uncalibrated_sigma_r", uncalibrated_sigma_r},
   };
   for (const auto& option : positive) {
     if (!PositiveFinite(option.value)) {
@@ -99,6 +102,30 @@ Status BackendOptions::Validate() const {
   if (gate_angle >= kPi || gate_axis >= kPi / 2 || reanchor_angle >= kPi) {
     return Status::Error(
         "gate_angle and reanchor_angle must be < pi, gate_axis < pi/2");
+  }
+  if (confirm_keyframes < 1 || tentative_timeout < 1 || upgrade_evidence < 1 ||
+      noise_min_samples < 1 || noise_window < noise_min_samples) {
+    return Status::Error(
+        "confirm_keyframes, tentative_timeout, upgrade_evidence and "
+        "noise_min_samples must be >= 1, noise_window >= noise_min_samples");
+  }
+  if (!(std::isfinite(min_support) && min_support >= 0.0 &&
+        min_support <= 1.0) ||
+      min_support_views < 1) {
+    return Status::Error(
+        "min_support must be in [0, 1] and min_support_views >= 1");
+  }
+  if (max_upgrade_order < 2) {
+    return Status::Error("max_upgrade_order must be >= 2");
+  }
+  if (!std::isfinite(gate_sigmas) || gate_sigmas < 0.0) {
+    return Status::Error("gate_sigmas must be finite and >= 0 (0 disables)");
+  }
+  if (!(std::isfinite(noise_update_ratio) && noise_update_ratio >= 1.0)) {
+    return Status::Error("noise_update_ratio must be finite and >= 1");
+  }
+  if (upgrade_angle_tolerance >= kPi / 2) {
+    return Status::Error("upgrade_angle_tolerance must be < pi/2");
   }
   if (!mixture.IsValid()) {
     return Status::Error(

@@ -41,6 +41,14 @@ struct KeyframeState {
   double q[4] = {0, 0, 0, 1};  // q_wc, Eigen order
   double t[3] = {0, 0, 0};     // t_wc
   std::optional<Rigid3d> T_wc_frontend;
+  // Where the front end alone puts this keyframe: the first pose chained
+  // with every odometry or front-end relative motion, never optimised (the
+  // detection noise is measured against it, detection_noise.h).
+  Rigid3d T_wc_chain;
+  // The variance one step of the camera motion factor adds to the
+  // predicted pose (m^2, rad^2; 0 without a motion factor).
+  double motion_variance_t = 0.0;
+  double motion_variance_r = 0.0;
   std::vector<int> factors;  // every factor touching this keyframe
 
   Rigid3d T_wc() const { return ReadPose(q, t); }
@@ -49,15 +57,61 @@ struct KeyframeState {
 // One detection's contribution to one object edge, kept so the edge can be
 // rebuilt when its object changes type or is re-anchored.
 struct ObjectObservation {
-  int keyframe = -1;                      // keyframe index
+  int keyframe = -1;  // keyframe index
+  // The detection's noise as given (claimed = true) or the options' default;
+  // the edge is built with the effective noise (detection_noise.h).
+  double sigma_t = 0.0;  // m
+  double sigma_r = 0.0;  // rad
+  bool claimed_t = false;
+  bool claimed_r = false;
   std::vector<PoseComponent> components;  // this edge's hypotheses
   Rigid3d T_co_best;                      // representative hypothesis
   Eigen::Vector3d axis_c = Eigen::Vector3d::Zero();  // measured axis, if any
   int angle = -1;  // discrete: the angle it constrains; -1: no angle
 };
 
+// A tentative object's edges stay out of the solves until enough
+// detections confirmed it; a dropped one is gone for good (its factors are
+// retired, its detections rejected).
+enum class ObjectStatus { kTentative, kConfirmed, kDropped };
+
+// A detection whose rotation contradicts an asymmetric object at its
+// position by a twist about an axis (symba's upgrade evidence).
+struct FlipEvidence {
+  int keyframe = -1;                              // keyframe index
+  Eigen::Vector3d a_o = Eigen::Vector3d::Zero();  // twist axis, object frame
+  double angle = 0.0;                             // twist angle (rad)
+};
+
+// What made an asymmetric object symmetric, for the report.
+struct UpgradeRecord {
+  int keyframe = -1;  // keyframe index of the upgrade
+  SymmetryType type = SymmetryType::kDiscrete;
+  int evidence = 0;    // consistent detections (flips, or 1 symmetric one)
+  int order = 0;       // the plausible order the flips' angle implies (0: none)
+  double angle = 0.0;  // the flips' mean twist angle (rad)
+};
+
 struct ObjectState {
   int id = 0;
+  ObjectStatus status = ObjectStatus::kConfirmed;
+  int created_keyframe = -1;  // keyframe index
+  int last_keyframe = -1;     // keyframe index of its last detection
+  int keyframes_seen = 0;     // distinct keyframes with a detection of it
+  int keyframes_in_view = 0;  // keyframes since confirmation it was in view
+  int keyframes_seen_in_view = 0;  // ... and was detected in
+  std::vector<int> assignments;    // indices into the backend's assignments
+  std::vector<FlipEvidence> flips;
+  std::optional<UpgradeRecord> upgrade;
+  // Its detections where the front end alone puts them (detection_noise.h):
+  // running sums for the mean position and rotation, and the last one.
+  Eigen::Vector3d chain_position_sum = Eigen::Vector3d::Zero();
+  Eigen::Vector4d chain_rotation_sum = Eigen::Vector4d::Zero();
+  int chain_count = 0;
+  int chain_rotation_count = 0;
+  int chain_last_keyframe = -1;
+  Eigen::Vector3d chain_last_position = Eigen::Vector3d::Zero();
+  std::optional<Eigen::Quaterniond> chain_last_rotation;
   std::string class_name;
   SymmetryType type = SymmetryType::kAsymmetric;
   double q[4] = {0, 0, 0, 1};                     // q_wo (asymmetric)
@@ -101,6 +155,7 @@ struct FactorRecord {
   int keyframe = -1;   // keyframe index
   int keyframe2 = -1;  // the other keyframe of an odometry factor
   int object = -1;
+  int observation = -1;  // index into the object's observations
   int point = -1;
   ceres::ResidualBlockId residual = nullptr;  // non-null while in the problem
   bool retired = false;                       // replaced by a rebuilt factor

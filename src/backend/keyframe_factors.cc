@@ -43,6 +43,20 @@ Rigid3d Backend::Impl::InitialPose(const KeyframeInput& input) const {
   return Normalized(*input.T_wc);
 }
 
+Rigid3d Backend::Impl::ChainPose(const KeyframeInput& input) const {
+  if (keyframes_.empty()) return Normalized(*input.T_wc);
+  if (input.odometry) {
+    return Normalized(keyframes_.back()->T_wc_chain *
+                      Normalized(input.odometry->T_prev_cur));
+  }
+  if (last_frontend_keyframe_ >= 0) {
+    const KeyframeState& anchor = *keyframes_[last_frontend_keyframe_];
+    return Normalized(anchor.T_wc_chain * anchor.T_wc_frontend->Inverse() *
+                      Normalized(*input.T_wc));
+  }
+  return Normalized(*input.T_wc);
+}
+
 void Backend::Impl::AddCameraFactors(int k, const KeyframeInput& input) {
   KeyframeState& kf = *keyframes_[k];
   int other = -1;
@@ -61,6 +75,10 @@ void Backend::Impl::AddCameraFactors(int k, const KeyframeInput& input) {
                                       options_.frontend_sigma_r);
   }
   if (other < 0) return;
+  const double sigma_t = 1.0 / sqrt_info(0, 0);
+  const double sigma_r = 1.0 / sqrt_info(3, 3);
+  kf.motion_variance_t = sigma_t * sigma_t;
+  kf.motion_variance_r = sigma_r * sigma_r;
   KeyframeState& prev = *keyframes_[other];
   FactorRecord record;
   record.cost.reset(RelativePoseFactor::Create(T_other_cur, sqrt_info));

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "backend/backend_impl.h"
+#include "backend/upgrade_evidence.h"
 #include "symba/factors/asymmetric_object_edge.h"
 #include "symba/factors/continuous_object_edge.h"
 #include "symba/factors/discrete_object_edge.h"
@@ -23,23 +24,96 @@ using internal::ObjectObservation;
 using internal::ObjectState;
 
 int Backend::Impl::CreateObject(const std::string& class_name,
-                                SymmetryType type) {
+                                SymmetryType type,
+                                int k) {
   auto object = std::make_unique<ObjectState>();
   object->id = static_cast<int>(objects_.size());
   object->class_name = class_name;
   object->type = type;
+  object->created_keyframe = k;
   objects_.push_back(std::move(object));
   ObjectState& created = *objects_.back();
   problem_.SetManifold(created.q, &quaternion_manifold_);
   problem_.SetManifold(created.a_w, &axis_manifold_);
-  ++statistics_.objects;
+  objects_by_class_[class_name].push_back(created.id);
+  if (options_.confirm_keyframes > 1) {
+    created.status = internal::ObjectStatus::kTentative;
+    tentative_.push_back(created.id);
+  } else {
+    ++statistics_.objects;
+  }
   return created.id;
+}
+
+void Backend::Impl::NoteDetection(int o, int k, int assignment) {
+  ObjectState& object = *objects_[o];
+  object.assignments.push_back(assignment);
+  if (object.last_keyframe != k) {
+    object.last_keyframe = k;
+    ++object.keyframes_seen;
+  }
+}
+
+void Backend::Impl::UpdateTentativeObjects(int k) {
+  size_t kept = 0;
+  for (int o : tentative_) {
+    ObjectState& object = *objects_[o];
+    if (object.keyframes_seen >= options_.confirm_keyframes) {
+      object.status = internal::ObjectStatus::kConfirmed;
+      ++statistics_.objects;
+    } else if (k - object.last_keyframe >= options_.tentative_timeout) {
+      DropObject(o);
+    } else {
+      tentative_[kept++] = o;
+    }
+  }
+  tentative_.resize(kept);
+}
+
+void Backend::Impl::NoteViewCone(const Eigen::Vector3d& t_co) {
+  const double distance = t_co.norm();
+  if (!(distance > 0.0)) return;
+  view_cone_cos_ = std::min(view_cone_cos_, t_co.z() / distance);
+  view_depth_ = std::max(view_depth_, distance);
+}
+
+void Backend::Impl::PruneUnsupportedObjects(int k) {
+  const Rigid3d T_cw = keyframes_[k]->T_wc().Inverse();
+  for (size_t o = 0; o < objects_.size(); ++o) {
+    ObjectState& object = *objects_[o];
+    if (object.status != internal::ObjectStatus::kConfirmed) continue;
+    const Eigen::Vector3d p_c = T_cw * object.position();
+    const double distance = p_c.norm();
+    const bool detected = object.last_keyframe == k;
+    const bool in_view =
+        detected || (distance > 0.0 && distance <= view_depth_ &&
+                     p_c.z() >= view_cone_cos_ * distance);
+    if (!in_view) continue;
+    ++object.keyframes_in_view;
+    if (detected) ++object.keyframes_seen_in_view;
+    if (object.keyframes_in_view >= options_.min_support_views &&
+        object.keyframes_seen_in_view <
+            options_.min_support * object.keyframes_in_view) {
+      DropObject(static_cast<int>(o));
+      --statistics_.objects;
+    }
+  }
+}
+
+void Backend::Impl::DropObject(int o) {
+  ObjectState& object = *objects_[o];
+  object.status = internal::ObjectStatus::kDropped;
+  for (int f : object.factors) problem_.Retire(f);
+  object.factors.clear();
+  for (int a : object.assignments) assignments_[a].object = -1;
+  ++statistics_.objects_dropped;
 }
 
 int Backend::Impl::CreateSymbaObject(const std::string& class_name,
                                      const CategorizedDetection& cat,
-                                     const Rigid3d& T_wc) {
-  const int o = CreateObject(class_name, cat.type);
+                                     const Rigid3d& T_wc,
+                                     int k) {
+  const int o = CreateObject(class_name, cat.type, k);
   ObjectState& object = *objects_[o];
   const Rigid3d T_wo_base = T_wc * cat.T_co_base;
   internal::WritePose(T_wo_base, object.q, object.t);
@@ -51,10 +125,51 @@ int Backend::Impl::CreateSymbaObject(const std::string& class_name,
   return o;
 }
 
+bool Backend::Impl::RecordFlip(int o,
+                               int k,
+                               const internal::SymbaMatch& match) {
+  ObjectState& object = *objects_[o];
+  internal::FlipEvidence flip;
+  flip.keyframe = k;
+  flip.a_o = match.a_o;
+  flip.angle = match.flip_angle;
+  object.flips.push_back(flip);
+  const internal::FlipConsensus consensus = internal::ConsistentFlips(
+      object.flips, flip, options_.gate_axis, options_.gate_angle);
+  const ClassPrior* prior = PriorOf(object.class_name);
+  int order = 0;
+  if (prior && prior->symmetry == SymmetryType::kDiscrete) {
+    if (internal::FitsOrder(consensus.mean_angle,
+                            prior->order,
+                            options_.upgrade_angle_tolerance)) {
+      order = prior->order;
+    }
+  } else {
+    order = internal::PlausibleOrder(consensus.mean_angle,
+                                     options_.max_upgrade_order,
+                                     options_.upgrade_angle_tolerance);
+  }
+  if (consensus.count < options_.upgrade_evidence || order == 0) {
+    ++statistics_.rotation_outliers;
+    return false;
+  }
+  internal::UpgradeRecord record;
+  record.keyframe = k;
+  record.evidence = consensus.count;
+  record.order = order;
+  record.angle = consensus.mean_angle;
+  UpgradeObject(o, SymmetryType::kDiscrete, match.a_o, record);
+  return true;
+}
+
 void Backend::Impl::UpgradeObject(int o,
                                   SymmetryType type,
-                                  const Eigen::Vector3d& a_o) {
+                                  const Eigen::Vector3d& a_o,
+                                  const internal::UpgradeRecord& record) {
   ObjectState& object = *objects_[o];
+  object.upgrade = record;
+  object.upgrade->type = type;
+  object.flips.clear();
   const Eigen::Quaterniond R_wo = object.Rotation(-1);
   object.type = type;
   object.a_o = a_o.normalized();
@@ -83,11 +198,11 @@ int Backend::Impl::MatchOrAddAngle(int o, const Eigen::Quaterniond& R_wo) {
 void Backend::Impl::AddObservation(int o, ObjectObservation observation) {
   ObjectState& object = *objects_[o];
   object.observations.push_back(std::move(observation));
-  AddObjectFactor(o, object.observations.back());
+  AddObjectFactor(o, static_cast<int>(object.observations.size()) - 1);
 }
 
-void Backend::Impl::AddObjectFactor(int o,
-                                    const ObjectObservation& observation) {
+void Backend::Impl::AddObjectFactor(int o, int i) {
+  const ObjectObservation& observation = objects_[o]->observations[i];
   FactorRecord record;
   record.cost = BuildObjectEdge(keyframes_[observation.keyframe].get(),
                                 objects_[o].get(),
@@ -96,6 +211,7 @@ void Backend::Impl::AddObjectFactor(int o,
   record.loss = object_loss_.get();
   record.keyframe = observation.keyframe;
   record.object = o;
+  record.observation = i;
   AddFactor(std::move(record));
 }
 
@@ -103,10 +219,92 @@ void Backend::Impl::RebuildObjectFactors(int o) {
   ObjectState& object = *objects_[o];
   for (int f : object.factors) problem_.Retire(f);
   object.factors.clear();
-  for (const ObjectObservation& observation : object.observations) {
-    AddObjectFactor(o, observation);
+  for (size_t i = 0; i < object.observations.size(); ++i) {
+    AddObjectFactor(o, static_cast<int>(i));
   }
 }
+
+// ---------------------------------------------------------------------------
+// The detector's noise (detection_noise.h).
+
+void Backend::Impl::UpdateDetectionNoise(
+    const std::vector<std::string>& classes) {
+  for (const std::string& class_name : classes) {
+    const internal::ClassNoise estimate = noise_.Estimate(class_name);
+    internal::ClassNoise& applied = applied_noise_[class_name];
+    auto moved = [&](const std::optional<double>& now,
+                     const std::optional<double>& before) {
+      if (!now) return false;
+      if (!before) return true;
+      const double ratio = *now / *before;
+      return ratio > options_.noise_update_ratio ||
+             ratio < 1.0 / options_.noise_update_ratio;
+    };
+    if (!moved(estimate.sigma_t, applied.sigma_t) &&
+        !moved(estimate.sigma_r, applied.sigma_r)) {
+      continue;
+    }
+    applied = estimate;
+    for (int o : objects_by_class_[class_name]) {
+      if (objects_[o]->status != internal::ObjectStatus::kDropped) {
+        RebuildObjectFactors(o);
+      }
+    }
+  }
+}
+
+void Backend::Impl::SampleNoise(int o,
+                                int k,
+                                const Eigen::Vector3d& t_co,
+                                const std::optional<Eigen::Quaterniond>& R_co) {
+  using Kind = internal::DetectionNoiseEstimator::Kind;
+  ObjectState& object = *objects_[o];
+  const Rigid3d& T_wc = keyframes_[k]->T_wc_chain;
+  const Eigen::Vector3d p = T_wc * t_co;
+  const bool sample = object.status == internal::ObjectStatus::kConfirmed;
+  const bool consecutive = object.chain_last_keyframe == k - 1;
+  if (sample && object.chain_count > 0) {
+    noise_.AddTranslation(
+        object.class_name,
+        Kind::kLevel,
+        (p - object.chain_position_sum / object.chain_count).norm());
+    if (consecutive) {
+      noise_.AddTranslation(object.class_name,
+                            Kind::kIncrement,
+                            (p - object.chain_last_position).norm());
+    }
+  }
+  object.chain_position_sum += p;
+  ++object.chain_count;
+  object.chain_last_position = p;
+  object.chain_last_keyframe = k;
+  if (!R_co || object.type != SymmetryType::kAsymmetric) {
+    object.chain_last_rotation.reset();
+    return;
+  }
+  Eigen::Quaterniond R = (T_wc.q * *R_co).normalized();
+  if (object.chain_rotation_count > 0) {
+    const Eigen::Quaterniond mean(
+        Eigen::Vector4d(object.chain_rotation_sum.normalized()));
+    if (sample) {
+      noise_.AddRotation(
+          object.class_name, Kind::kLevel, mean.angularDistance(R));
+      if (consecutive && object.chain_last_rotation) {
+        noise_.AddRotation(object.class_name,
+                           Kind::kIncrement,
+                           object.chain_last_rotation->angularDistance(R));
+      }
+    }
+    // The sum averages quaternions of one sign.
+    if (mean.coeffs().dot(R.coeffs()) < 0.0) R.coeffs() = -R.coeffs();
+  }
+  object.chain_rotation_sum += R.coeffs();
+  ++object.chain_rotation_count;
+  object.chain_last_rotation = R;
+}
+
+// ---------------------------------------------------------------------------
+// Re-anchoring and edges.
 
 void Backend::Impl::ReanchorDriftedObjects() {
   for (size_t o = 0; o < objects_.size(); ++o) {
@@ -136,17 +334,29 @@ std::unique_ptr<ceres::CostFunction> Backend::Impl::BuildObjectEdge(
     ObjectState* object,
     const ObjectObservation& observation,
     std::vector<double*>* blocks) const {
+  // The components with the effective noise, where the class has an
+  // estimate (detection_noise.h); as the detection gave them otherwise.
+  std::vector<PoseComponent> components = observation.components;
+  const auto noise = applied_noise_.find(object->class_name);
+  if (noise != applied_noise_.end()) {
+    const Matrix6d sqrt_info = IsotropicPoseSqrtInfo(
+        internal::EffectiveSigma(
+            observation.sigma_t, observation.claimed_t, noise->second.sigma_t),
+        internal::EffectiveSigma(
+            observation.sigma_r, observation.claimed_r, noise->second.sigma_r));
+    for (PoseComponent& c : components) c.sqrt_info = sqrt_info;
+  }
   if (object->type == SymmetryType::kAsymmetric) {
     std::unique_ptr<AsymmetricObjectEdge> edge;
-    Status status = CreateAsymmetricObjectEdge(
-        observation.components, options_.mixture, &edge);
+    Status status =
+        CreateAsymmetricObjectEdge(components, options_.mixture, &edge);
     *blocks = {kf->q, kf->t, object->q, object->t};
     return status.ok() ? std::move(edge) : nullptr;
   }
   if (object->type == SymmetryType::kDiscrete && observation.angle >= 0) {
     std::unique_ptr<DiscreteObjectEdge> edge;
     Status status = CreateDiscreteObjectEdge(
-        observation.components, object->anchor, options_.mixture, &edge);
+        components, object->anchor, options_.mixture, &edge);
     *blocks = {kf->q,
                kf->t,
                object->t,
@@ -155,7 +365,7 @@ std::unique_ptr<ceres::CostFunction> Backend::Impl::BuildObjectEdge(
     return status.ok() ? std::move(edge) : nullptr;
   }
   std::vector<TranslationComponent> translations;
-  for (const PoseComponent& c : observation.components) {
+  for (const PoseComponent& c : components) {
     translations.push_back(
         {c.T_co.t, c.sqrt_info.topLeftCorner<3, 3>(), c.weight});
   }

@@ -624,7 +624,8 @@ Status EvaluateReplay(const GroundTruth& gt,
                            ": detection " + Quoted(row.detection) +
                            " is not in " + gt.objects_path);
     }
-    if (map_objects.count(row.object) == 0) {
+    // Object -1: the backend rejected the detection as an outlier.
+    if (row.object != -1 && map_objects.count(row.object) == 0) {
       return Status::Error(At(result.associations_path, row.line) +
                            ": map object " + std::to_string(row.object) +
                            " is not in " + result.objects_path);
@@ -632,7 +633,11 @@ Status EvaluateReplay(const GroundTruth& gt,
     associated.insert(row.detection);
     ObjectEvaluation& o = e.objects[gt_index.at(detection->second)];
     ++o.detections;
-    ++o.detections_per_map_object[row.object];
+    if (row.object == -1) {
+      ++o.rejected;
+    } else {
+      ++o.detections_per_map_object[row.object];
+    }
     const bool correct = row.symmetry == o.symmetry;
     o.categorized_correctly += correct ? 1 : 0;
     e.categorized_correctly += correct ? 1 : 0;

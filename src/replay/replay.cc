@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <memory>
+#include <set>
 #include <string>
 
 namespace symba {
@@ -61,6 +62,14 @@ Status ReplayLog(const std::string& log_path,
   replay.keyframes = backend->Keyframes();
   replay.objects = backend->Objects();
   replay.assignments = backend->Assignments();
+  // A detection of an object still tentative at the end is in no map
+  // object, like one of a dropped object.
+  std::set<int> in_map;
+  for (const MapObjectEstimate& object : replay.objects)
+    in_map.insert(object.id);
+  for (DetectionAssignment& a : replay.assignments) {
+    if (in_map.count(a.object) == 0) a.object = -1;
+  }
   replay.statistics = backend->Statistics();
   replay.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)

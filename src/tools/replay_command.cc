@@ -134,6 +134,48 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                   f->gate_angle_deg,
                   "discrete angle association gate (degrees)")
       ->capture_default_str();
+  cmd->add_option("--confirm-keyframes",
+                  b.confirm_keyframes,
+                  "keyframes with a detection before a new object enters the "
+                  "map (1: at once)")
+      ->capture_default_str();
+  cmd->add_option("--tentative-timeout",
+                  b.tentative_timeout,
+                  "keyframes without a detection after which a tentative "
+                  "object is dropped")
+      ->capture_default_str();
+  cmd->add_option("--gate-sigmas",
+                  b.gate_sigmas,
+                  "position gate in the detection's noise (0: gate-position "
+                  "only)")
+      ->capture_default_str();
+  cmd->add_option("--estimate-noise",
+                  b.estimate_noise,
+                  "estimate each class's detection noise from the data")
+      ->capture_default_str();
+  cmd->add_option("--uncalibrated-sigma-t",
+                  b.uncalibrated_sigma_t,
+                  "with --estimate-noise: the least noise a detection without "
+                  "a sigma is weighed with (m)")
+      ->capture_default_str();
+  cmd->add_option("--uncalibrated-sigma-r",
+                  b.uncalibrated_sigma_r,
+                  "the same for rotation (rad)")
+      ->capture_default_str();
+  cmd->add_option("--min-support",
+                  b.min_support,
+                  "drop a confirmed object detected in fewer than this "
+                  "fraction of the keyframes it was in view (0: never)")
+      ->capture_default_str();
+  cmd->add_option("--upgrade-evidence",
+                  b.upgrade_evidence,
+                  "symba: agreeing flips before an asymmetric object becomes "
+                  "discrete")
+      ->capture_default_str();
+  cmd->add_option("--max-upgrade-order",
+                  b.max_upgrade_order,
+                  "symba: the largest symmetry order a flip may show")
+      ->capture_default_str();
   cmd->add_flag("--g2o-isotropic",
                 f->g2o_isotropic,
                 "g2o input: replace each edge's information by SE-Sync's "

@@ -51,9 +51,11 @@ struct SolveReport {
 struct BackendStatistics {
   int keyframes = 0;
   int detections = 0;
-  int objects = 0;
+  int objects = 0;  // confirmed map objects
   int points = 0;
-  int object_upgrades = 0;  // asymmetric map objects that became symmetric
+  int object_upgrades = 0;    // asymmetric map objects that became symmetric
+  int objects_dropped = 0;    // tentative objects never confirmed
+  int rotation_outliers = 0;  // symba: flips that did not (yet) upgrade
   int solves = 0;
   double solve_seconds = 0.0;
   int solve_iterations = 0;

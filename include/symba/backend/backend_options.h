@@ -81,6 +81,51 @@ struct BackendOptions {
   // this far from its anchor (the swing is singular at 180 degrees).
   double reanchor_angle = 45.0 * kPi / 180.0;
 
+  // Real detectors (docs/backend.md "Real detectors"). Every method gets
+  // these; only the upgrade evidence is symba's.
+  //
+  // A new map object is tentative: its edges stay out of the solves until
+  // detections in `confirm_keyframes` different keyframes joined it (1:
+  // every object enters the map at once). A tentative object that no
+  // detection joined for `tentative_timeout` keyframes is dropped with its
+  // edges, and its detections are reported with object -1.
+  int confirm_keyframes = 5;
+  int tentative_timeout = 10;
+  // Position gate in the detection's noise: an object of n observations
+  // takes a detection only within gate_sigmas * sigma_t * sqrt(1 + 1/n)
+  // (and gate_position). 0: gate_position only.
+  double gate_sigmas = 5.0;
+  // Estimate each class's detection noise from the object edges' residuals
+  // (robust median of the last noise_window samples, used from
+  // noise_min_samples on) and build its edges with it; a class's edges are
+  // rebuilt when its estimate moves by more than the factor
+  // noise_update_ratio. A detection's own sigma is a lower bound.
+  bool estimate_noise = true;
+  int noise_window = 500;
+  int noise_min_samples = 20;
+  double noise_update_ratio = 1.25;
+  // With estimate_noise, a detection that gives no sigma is weighed with
+  // max(estimate, uncalibrated_sigma) instead of hypothesis_sigma: errors
+  // that persist over many frames (a bias) cannot be told from camera
+  // motion until the object was seen from elsewhere, so an uncalibrated
+  // detector must not steer the camera (docs/backend.md "Real detectors"
+  // has the measurements behind these values).
+  double uncalibrated_sigma_t = 2.0;  // m
+  double uncalibrated_sigma_r = 3.0;  // rad
+  // A confirmed object that was in view (in front of the camera, within
+  // the widest bearing and depth any detection had) in min_support_views
+  // keyframes, but detected in fewer than min_support of them, is dropped:
+  // a cluster of outliers that happened to agree. 0 disables.
+  double min_support = 0.2;
+  int min_support_views = 20;
+  // symba: an asymmetric object becomes discrete only after
+  // `upgrade_evidence` flips in different keyframes agree (axis within
+  // gate_axis, angle within gate_angle) on an angle within
+  // upgrade_angle_tolerance of 2 pi j / K, K <= max_upgrade_order.
+  int upgrade_evidence = 3;
+  int max_upgrade_order = 4;
+  double upgrade_angle_tolerance = 10.0 * kPi / 180.0;  // rad
+
   CategorizationOptions categorization;
 
   // OK, or which option is out of range and why.

@@ -4,6 +4,7 @@
 #define SYMBA_BACKEND_ESTIMATES_H_
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,12 +34,23 @@ struct MapObjectEstimate {
   // angle-0 pose (continuous).
   std::vector<Rigid3d> poses;
   int observations = 0;  // detections associated with it
+  // An asymmetric object that became symmetric: when and on what evidence.
+  struct Upgrade {
+    int64_t keyframe = 0;  // the keyframe id of the upgrade
+    int evidence = 0;      // agreeing flips, or 1 symmetric detection
+    int order = 0;         // the order the flips' angle fits (0: none)
+    double angle = 0.0;    // the flips' mean angle (rad; 0 without flips)
+  };
+  std::optional<Upgrade> upgrade;
 };
 
 struct DetectionAssignment {
   int64_t keyframe = 0;
   std::string detection;
-  int object = -1;                                    // map object id
+  // The map object's id; -1 if the detection made a tentative object that
+  // was dropped (an outlier). A tentative object's id while it waits for
+  // confirmation (it is not in Backend::Objects() until then).
+  int object = -1;
   SymmetryType symmetry = SymmetryType::kAsymmetric;  // as categorised
 };
 

@@ -111,10 +111,11 @@ struct ObjectEvaluation {
   SymmetryType symmetry = SymmetryType::kAsymmetric;
   int order = 0;
   int detections = 0;   // its detections (all have an association row)
-  int map_objects = 0;  // distinct map objects they went to
+  int rejected = 0;     // of them, in no map object (object -1: outliers)
+  int map_objects = 0;  // distinct map objects the others went to
   // Map object id -> how many of its detections went there.
   std::map<int, int> detections_per_map_object;
-  int main_object = -1;  // -1 when it has no detections
+  int main_object = -1;  // -1 when no detection is in a map object
   SymmetryType main_object_symmetry = SymmetryType::kAsymmetric;
   // NaN when not defined (no detections; axis error of asymmetric objects).
   double translation_error = 0.0;   // m

@@ -1,0 +1,112 @@
+// The detector's noise, estimated from the data (docs/backend.md "Real
+// detectors"). Real detectors claim a noise that is not theirs, or claim
+// none, and their errors are not independent from frame to frame: a pose
+// estimator that puts a box 5 cm too deep does so for many frames in a row,
+// and a backend that takes each such detection as a new independent
+// measurement drags the cameras along with the bias.
+//
+// Samples, per class, taken where the front end alone places things (the
+// keyframe poses chained from the front end's motion, never optimised, so
+// that no solve can absorb the error it is meant to measure):
+//   level      the distance between a detection's world position and the
+//              running mean of the earlier detections of its object (m),
+//              and the angle between its rotation and their running mean
+//              rotation (rad, asymmetric objects);
+//   increment  the same between two detections of one object in
+//              consecutive keyframes.
+// The last `window` samples of each kind are kept.
+//
+// Estimate: |e| of isotropic Gaussian noise follows a chi distribution with
+// 3 degrees of freedom, whose median is 1.5382 sigma:
+//   sigma_L = median(level) / 1.5382           the scatter,
+//   sigma_I = median(increment) / (1.5382 sqrt 2)  the frame-to-frame part.
+// For errors that decay as an AR(1) process, rho = 1 - sigma_I^2 /
+// sigma_L^2 is the correlation of consecutive errors and a run of N of them
+// carries the information of N (1 - rho) / (1 + rho) independent ones, so
+// each detection is weighed with
+//   sigma = sigma_L sqrt((1 + rho) / (1 - rho)),   rho clamped to [0, 0.98]
+// (independent errors: sigma = sigma_L). The medians ignore the few gross
+// outliers a real detector has. An estimate exists once `min_samples`
+// levels do (without increments rho = 0); it is never below kMinSigmaT/R.
+#ifndef SYMBA_SRC_BACKEND_DETECTION_NOISE_H_
+#define SYMBA_SRC_BACKEND_DETECTION_NOISE_H_
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace symba::internal {
+
+// The median of a chi distribution with 3 degrees of freedom.
+inline constexpr double kChi3Median = 1.5381722;
+// Estimates never go below these (a detector that agrees with the map to
+// the last bit must not make an infinite weight).
+inline constexpr double kMinSigmaT = 1e-3;  // m
+inline constexpr double kMinSigmaR = 1e-3;  // rad
+// The largest correlation of consecutive errors the estimate believes.
+inline constexpr double kMaxCorrelation = 0.98;
+
+// The median of the last `window` values added, over kChi3Median.
+class RobustScale {
+ public:
+  explicit RobustScale(int window) : window_(window) {}
+  void Add(double value);
+  int size() const { return static_cast<int>(values_.size()); }
+  // The values must not be empty.
+  double Sigma() const;
+
+ private:
+  int window_;
+  std::vector<double> values_;  // a ring once full
+  size_t next_ = 0;
+  mutable std::vector<double> scratch_;
+};
+
+// sigma_L sqrt((1 + rho) / (1 - rho)) from a scale of levels and one of
+// increments (see above).
+double CorrelatedSigma(double sigma_level, double sigma_increment);
+
+struct ClassNoise {
+  std::optional<double> sigma_t;  // m
+  std::optional<double> sigma_r;  // rad
+};
+
+class DetectionNoiseEstimator {
+ public:
+  DetectionNoiseEstimator(int window, int min_samples)
+      : window_(window), min_samples_(min_samples) {}
+
+  enum class Kind { kLevel, kIncrement };
+  void AddTranslation(const std::string& class_name, Kind kind, double error);
+  void AddRotation(const std::string& class_name, Kind kind, double error);
+  // Each sigma once it has min_samples levels.
+  ClassNoise Estimate(const std::string& class_name) const;
+
+ private:
+  struct Scales {
+    explicit Scales(int window) : level(window), increment(window) {}
+    RobustScale level;
+    RobustScale increment;
+  };
+  std::optional<double> Sigma(const std::map<std::string, Scales>& scales,
+                              const std::string& class_name) const;
+
+  int window_;
+  int min_samples_;
+  std::map<std::string, Scales> translation_;
+  std::map<std::string, Scales> rotation_;
+};
+
+// The noise an edge is built with: a detection's own sigma (the detector's
+// word) where it gives one; otherwise the larger of `given` (the options'
+// floor for uncalibrated detectors) and the estimate, where there is one.
+inline double EffectiveSigma(double given,
+                             bool claimed,
+                             const std::optional<double>& estimate) {
+  return claimed || !estimate || *estimate < given ? given : *estimate;
+}
+
+}  // namespace symba::internal
+
+#endif  // SYMBA_SRC_BACKEND_DETECTION_NOISE_H_

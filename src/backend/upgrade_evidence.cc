@@ -1,0 +1,46 @@
+#include "backend/upgrade_evidence.h"
+
+#include <cmath>
+
+#include "backend/association.h"
+#include "symba/geometry/angle.h"
+
+namespace symba::internal {
+
+bool FitsOrder(double angle, int order, double tolerance) {
+  const double step = 2.0 * kPi / order;
+  const double a = std::abs(WrapToPi(angle));
+  // The nearest multiple j of the step, j in 1..order/2 covers [0, pi].
+  const double j = std::max(1.0, std::round(a / step));
+  return std::abs(a - j * step) <= tolerance;
+}
+
+int PlausibleOrder(double angle, int max_order, double tolerance) {
+  for (int order = 2; order <= max_order; ++order) {
+    if (FitsOrder(angle, order, tolerance)) return order;
+  }
+  return 0;
+}
+
+FlipConsensus ConsistentFlips(const std::vector<FlipEvidence>& flips,
+                              const FlipEvidence& flip,
+                              double gate_axis,
+                              double gate_angle) {
+  FlipConsensus consensus;
+  int last_keyframe = -1;
+  double sum = 0.0;
+  for (const FlipEvidence& other : flips) {
+    if (other.keyframe == last_keyframe) continue;  // one per keyframe
+    if (AxisDistance(other.a_o, flip.a_o) > gate_axis) continue;
+    if (std::abs(std::abs(other.angle) - std::abs(flip.angle)) > gate_angle) {
+      continue;
+    }
+    last_keyframe = other.keyframe;
+    ++consensus.count;
+    sum += std::abs(other.angle);
+  }
+  if (consensus.count > 0) consensus.mean_angle = sum / consensus.count;
+  return consensus;
+}
+
+}  // namespace symba::internal

@@ -10,24 +10,20 @@
 //
 //   build/bin/symba-bench [--scenes disc,cts,asym,square,room] [--seeds 3]
 //                         [--out-dir DIR] [--results-md FILE] [--quiet]
-#include <sys/utsname.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "bench_report.h"
 #include "symba/backend/backend_options.h"
 #include "symba/evaluation/evaluate.h"
 #include "symba/io/replay_output.h"
@@ -43,6 +39,13 @@ using symba::Evaluation;
 using symba::Method;
 using symba::ObjectEvaluation;
 using symba::Status;
+using symba::bench::Command;
+using symba::bench::Count;
+using symba::bench::Fixed;
+using symba::bench::Machine;
+using symba::bench::Mean;
+using symba::bench::UtcDate;
+using symba::bench::WriteText;
 
 // The paper's column order: OURS, SH, MH; then symba with the paper's
 // per-hypothesis mixtures (merge_modes off), to show what mode merging adds.
@@ -83,39 +86,6 @@ struct Run {
 
 // runs[scene][method][seed].
 using Runs = std::map<std::string, std::vector<std::vector<Run>>>;
-
-std::string Fixed(double value, int decimals) {
-  if (!std::isfinite(value)) return "n/a";
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", decimals, value);
-  return buffer;
-}
-
-// Mean of the finite values (NaN if none).
-double Mean(const std::vector<double>& values) {
-  double sum = 0.0;
-  int n = 0;
-  for (double v : values) {
-    if (std::isfinite(v)) {
-      sum += v;
-      ++n;
-    }
-  }
-  return n > 0 ? sum / n : std::nan("");
-}
-
-// "1 object", "2 objects".
-std::string Count(int n, const std::string& noun) {
-  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
-}
-
-Status WriteText(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  out.close();
-  if (!out) return Status::Error(path.string() + ": cannot write");
-  return Status::Ok();
-}
 
 // Simulates, replays with every method, evaluates, draws (seed 0).
 Status RunSeed(const Flags& flags,
@@ -422,44 +392,6 @@ std::string AcceptanceChecks(const Runs& runs) {
 
 // ---------------------------------------------------------------------------
 // Provenance.
-
-std::string Command(int argc, char** argv) {
-  std::string command;
-  for (int i = 0; i < argc; ++i) {
-    if (i > 0) command += ' ';
-    command += argv[i];
-  }
-  return command;
-}
-
-std::string Machine() {
-  std::string cpu = "unknown CPU";
-  std::ifstream cpuinfo("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(cpuinfo, line)) {
-    if (line.rfind("model name", 0) == 0) {
-      const std::size_t colon = line.find(':');
-      if (colon != std::string::npos) cpu = line.substr(colon + 2);
-      break;
-    }
-  }
-  std::string os = "unknown OS";
-  struct utsname name;
-  if (::uname(&name) == 0) {
-    os = std::string(name.sysname) + " " + name.release + " " + name.machine;
-  }
-  return cpu + ", " + std::to_string(std::thread::hardware_concurrency()) +
-         " hardware threads, " + os;
-}
-
-std::string UtcDate() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buffer[64];
-  std::strftime(buffer, sizeof(buffer), "%Y-%m-%d %H:%M UTC", &tm);
-  return buffer;
-}
 
 std::string ResultsMarkdown(const Flags& flags,
                             const Runs& runs,

@@ -30,6 +30,7 @@ constexpr double kRing = 13.0;
 const double kMinHorizontal = std::sin(5.0 * kPi / 180.0);
 constexpr char kGtColor[] = "#2ca02c";
 constexpr char kGtTrajectoryColor[] = "#222222";
+constexpr char kFrontEndColor[] = "#999999";
 
 std::string Num(double value) {
   char buffer[32];
@@ -185,7 +186,8 @@ double ScaleBarLength(double max) {
 std::string TopDownSvg(const GroundTruth& gt,
                        const ReplayOutputs& result,
                        const std::string& title,
-                       const std::string& color) {
+                       const std::string& color,
+                       const std::vector<TrajectoryPose>& front_end) {
   // Bounds: everything true, and the estimate where it stays within twice
   // the true extent (a diverged estimate is clipped, not zoomed out to).
   Eigen::AlignedBox2d truth;
@@ -197,8 +199,10 @@ std::string TopDownSvg(const GroundTruth& gt,
   const Eigen::Vector2d extent = truth.sizes().cwiseMax(1.0);
   const Eigen::AlignedBox2d limit(truth.min() - extent, truth.max() + extent);
   Eigen::AlignedBox2d box = truth;
-  for (const TrajectoryPose& p : result.keyframes) {
-    if (limit.contains(p.T_wc.t.head<2>())) box.extend(p.T_wc.t.head<2>());
+  for (const auto* keyframes : {&result.keyframes, &front_end}) {
+    for (const TrajectoryPose& p : *keyframes) {
+      if (limit.contains(p.T_wc.t.head<2>())) box.extend(p.T_wc.t.head<2>());
+    }
   }
   for (const MapObjectEstimate& o : result.objects) {
     if (limit.contains(o.t_wo.head<2>())) box.extend(o.t_wo.head<2>());
@@ -227,6 +231,13 @@ std::string TopDownSvg(const GroundTruth& gt,
     points.push_back(p.T_wc.t.head<2>());
   }
   svg.Polyline(points, kGtTrajectoryColor, 1.5, " stroke-dasharray=\"6 3\"");
+  points.clear();
+  for (const TrajectoryPose& p : front_end) {
+    points.push_back(p.T_wc.t.head<2>());
+  }
+  if (!points.empty()) {
+    svg.Polyline(points, kFrontEndColor, 1.5, " stroke-dasharray=\"2 3\"");
+  }
   points.clear();
   for (const TrajectoryPose& p : result.keyframes) {
     points.push_back(p.T_wc.t.head<2>());
@@ -289,6 +300,14 @@ std::string TopDownSvg(const GroundTruth& gt,
           "\" stroke-width=\"2\"/>\n");
   svg.Text(x + 38, y + 4, "estimated keyframes", 12);
   y += 22;
+  if (!front_end.empty()) {
+    svg.Raw("<line x1=\"" + Num(x) + "\" y1=\"" + Num(y) + "\" x2=\"" +
+            Num(x + 30) + "\" y2=\"" + Num(y) + "\" stroke=\"" +
+            kFrontEndColor +
+            "\" stroke-width=\"1.5\" stroke-dasharray=\"2 3\"/>\n");
+    svg.Text(x + 38, y + 4, "front end", 12);
+    y += 22;
+  }
   svg.GtMarker(x + 15, y);
   svg.Text(x + 38, y + 4, "ground-truth object", 12);
   y += 22;

@@ -14,17 +14,20 @@
 #define SYMBA_BENCHMARKS_TOP_DOWN_SVG_H_
 
 #include <string>
+#include <vector>
 
 #include "symba/evaluation/evaluate.h"
 
 namespace symba::bench {
 
 // `title` is the first line of the picture; `color` (an SVG colour) is the
-// estimate's.
+// estimate's. A non-empty `front_end` (e.g. a front end's keyframe poses in
+// the ground truth's world) is drawn as a grey dotted line.
 std::string TopDownSvg(const GroundTruth& gt,
                        const ReplayOutputs& result,
                        const std::string& title,
-                       const std::string& color);
+                       const std::string& color,
+                       const std::vector<TrajectoryPose>& front_end = {});
 
 }  // namespace symba::bench
 

@@ -1,0 +1,36 @@
+// Small helpers the benchmark programs share for their markdown reports:
+// number formatting, means and medians, the provenance lines (command,
+// machine, date) and writing a text file.
+#ifndef SYMBA_BENCHMARKS_BENCH_REPORT_H_
+#define SYMBA_BENCHMARKS_BENCH_REPORT_H_
+
+#include <string>
+#include <vector>
+
+#include "symba/common/status.h"
+
+namespace symba::bench {
+
+// `value` with `decimals` decimals, "n/a" when not finite.
+std::string Fixed(double value, int decimals);
+
+// Mean / median of the finite values (NaN if none).
+double Mean(const std::vector<double>& values);
+double Median(std::vector<double> values);
+
+// "1 object", "2 objects".
+std::string Count(int n, const std::string& noun);
+
+// Writes `text` to `path`; "PATH: cannot write".
+Status WriteText(const std::string& path, const std::string& text);
+
+// The command line, space-separated.
+std::string Command(int argc, char** argv);
+// "CPU model, N hardware threads, OS release machine".
+std::string Machine();
+// "YYYY-MM-DD HH:MM UTC", now.
+std::string UtcDate();
+
+}  // namespace symba::bench
+
+#endif  // SYMBA_BENCHMARKS_BENCH_REPORT_H_

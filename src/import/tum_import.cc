@@ -1,0 +1,161 @@
+#include "symba/import/tum_import.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <utility>
+
+#include "io/text_file.h"
+#include "symba/io/log_file.h"
+#include "symba/io/tum_trajectory.h"
+
+namespace symba {
+namespace {
+
+using internal::Approx;
+using internal::At;
+
+// The index of the pose in `poses` (increasing timestamps) whose timestamp
+// is within kImportTimestampTolerance of `timestamp`, or -1.
+int FindByTimestamp(const std::vector<TrajectoryPose>& poses,
+                    double timestamp) {
+  const auto it = std::lower_bound(
+      poses.begin(),
+      poses.end(),
+      timestamp - kImportTimestampTolerance,
+      [](const TrajectoryPose& pose, double t) { return pose.timestamp < t; });
+  if (it == poses.end() ||
+      !(std::abs(it->timestamp - timestamp) <= kImportTimestampTolerance)) {
+    return -1;
+  }
+  return static_cast<int>(it - poses.begin());
+}
+
+Status CheckPositive(const char* name, double value) {
+  if (!(value > 0.0) || !std::isfinite(value)) {
+    return Status::Error(std::string(name) + ": must be positive, got " +
+                         Approx(value));
+  }
+  return Status::Ok();
+}
+
+Status CheckOptions(const TumImportOptions& options) {
+  if (options.stride < 1) {
+    return Status::Error("stride: must be at least 1, got " +
+                         std::to_string(options.stride));
+  }
+  Status status = CheckPositive("odometry sigma_t", options.odometry_sigma_t);
+  if (status.ok()) {
+    status = CheckPositive("odometry sigma_r", options.odometry_sigma_r);
+  }
+  if (status.ok() && options.detection_sigma_t) {
+    status = CheckPositive("detection sigma_t", *options.detection_sigma_t);
+  }
+  if (status.ok() && options.detection_sigma_r) {
+    status = CheckPositive("detection sigma_r", *options.detection_sigma_r);
+  }
+  for (std::size_t i = 0; status.ok() && i < options.objects.size(); ++i) {
+    if (options.objects[i].class_name.empty()) {
+      status = Status::Error(options.objects[i].path +
+                             ": the object's class name is empty");
+    }
+  }
+  return status;
+}
+
+}  // namespace
+
+Status ImportTum(const TumImportOptions& options,
+                 LogHeader* header,
+                 std::vector<KeyframeInput>* keyframes) {
+  Status status = CheckOptions(options);
+  if (!status.ok()) return status;
+
+  std::vector<TrajectoryPose> frames;
+  status = ReadTumTrajectory(options.trajectory, &frames);
+  if (!status.ok()) return status;
+
+  Rigid3d first_T_wc = frames.front().T_wc;
+  if (!options.first_pose.empty()) {
+    std::vector<TrajectoryPose> first;
+    status = ReadTumTrajectory(options.first_pose, &first);
+    if (!status.ok()) return status;
+    const int index = FindByTimestamp(first, frames.front().timestamp);
+    if (index < 0) {
+      return Status::Error(options.first_pose +
+                           ": no pose at the first frame's timestamp " +
+                           FormatDouble(frames.front().timestamp) + " (" +
+                           At(options.trajectory, frames.front().line) + ")");
+    }
+    first_T_wc = first[index].T_wc;
+  }
+
+  header->version = kLogFormatVersion;
+  header->camera.reset();
+  header->classes = options.classes;
+
+  keyframes->clear();
+  const std::size_t stride = static_cast<std::size_t>(options.stride);
+  for (std::size_t f = 0; f < frames.size(); f += stride) {
+    KeyframeInput keyframe;
+    keyframe.id = static_cast<int64_t>(f);
+    keyframe.timestamp = frames[f].timestamp;
+    if (f == 0) {
+      keyframe.T_wc = first_T_wc;
+    } else {
+      Odometry odometry;
+      odometry.T_prev_cur = frames[f - stride].T_wc.Inverse() * frames[f].T_wc;
+      odometry.T_prev_cur.q.normalize();
+      odometry.sigma_t = options.odometry_sigma_t;
+      odometry.sigma_r = options.odometry_sigma_r;
+      keyframe.odometry = odometry;
+    }
+    keyframes->push_back(std::move(keyframe));
+  }
+
+  TumReadOptions detection_options;
+  detection_options.skip_all_zero_rows = true;
+  detection_options.allow_empty = true;
+  for (const TumObjectFile& object : options.objects) {
+    std::vector<TrajectoryPose> rows;
+    status = ReadTumTrajectory(object.path, detection_options, &rows);
+    if (!status.ok()) return status;
+    for (const TrajectoryPose& row : rows) {
+      const int frame = FindByTimestamp(frames, row.timestamp);
+      if (frame < 0) {
+        return Status::Error(At(object.path, row.line) + ": timestamp " +
+                             FormatDouble(row.timestamp) +
+                             " is not the time of any frame of " +
+                             options.trajectory + " (within " +
+                             Approx(kImportTimestampTolerance) + " s)");
+      }
+      if (static_cast<std::size_t>(frame) % stride != 0) continue;
+      DetectionInput detection;
+      detection.class_name = object.class_name;
+      detection.hypotheses.push_back(PoseHypothesis{row.T_wc, 1.0});
+      detection.sigma_t = options.detection_sigma_t;
+      detection.sigma_r = options.detection_sigma_r;
+      (*keyframes)[static_cast<std::size_t>(frame) / stride]
+          .detections.push_back(std::move(detection));
+    }
+  }
+  return Status::Ok();
+}
+
+Status ImportTumToLog(const TumImportOptions& options,
+                      const std::string& log_path,
+                      TumImportCounts* counts) {
+  LogHeader header;
+  std::vector<KeyframeInput> keyframes;
+  Status status = ImportTum(options, &header, &keyframes);
+  if (status.ok()) status = WriteLogAtomically(log_path, header, keyframes);
+  if (!status.ok() || counts == nullptr) return status;
+  counts->keyframes = static_cast<int>(keyframes.size());
+  counts->detections = 0;
+  for (const KeyframeInput& keyframe : keyframes) {
+    counts->detections += static_cast<int>(keyframe.detections.size());
+  }
+  return status;
+}
+
+}  // namespace symba

@@ -1,0 +1,252 @@
+// The backend against a real detector's failure modes (docs/backend.md
+// "Real detectors"), and the window mechanics, through the public API:
+//   - a gross outlier detection leaves the map and the cameras unchanged;
+//   - a new object is tentative until confirmed, and dropped with its
+//     detections (object -1) if it is not;
+//   - the window: keyframes before it stay bit-identical, exactly the
+//     factors of the window's keyframes and of what they observe are in the
+//     problem, and an object seen again brings its old edges back.
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "symba/backend/backend.h"
+#include "symba/geometry/angle.h"
+#include "test_support/scripted_sequence.h"
+
+namespace symba {
+namespace {
+
+using testing::GenerateScriptedSequence;
+using testing::ScriptedObject;
+using testing::ScriptedSequence;
+using testing::ScriptedSequenceSpec;
+
+// A chair seen from a loop of 24 keyframes by a calibrated detector (it
+// reports its noise, so nothing depends on the noise estimate).
+ScriptedSequence ChairSequence() {
+  ScriptedObject chair;
+  chair.class_name = "chair";
+  chair.symmetry = SymmetryType::kAsymmetric;
+  chair.T_wo =
+      Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.1, -0.05, 0.0));
+  ScriptedSequenceSpec spec;
+  spec.objects = {chair};
+  spec.num_keyframes = 24;
+  spec.detection_sigma_t = 0.03;
+  spec.detection_sigma_r = 0.05;
+  spec.seed = 11;
+  return GenerateScriptedSequence(spec);
+}
+
+struct RunResult {
+  std::vector<KeyframeEstimate> keyframes;
+  std::vector<MapObjectEstimate> objects;
+  std::vector<DetectionAssignment> assignments;
+  BackendStatistics statistics;
+};
+
+RunResult Replay(const std::vector<KeyframeInput>& keyframes,
+                 const BackendOptions& options,
+                 const std::optional<PinholeIntrinsics>& intrinsics) {
+  std::unique_ptr<Backend> backend;
+  Status status = Backend::Create(options, intrinsics, {}, &backend);
+  EXPECT_TRUE(status.ok()) << status.message();
+  for (const KeyframeInput& keyframe : keyframes) {
+    status = backend->AddKeyframe(keyframe);
+    EXPECT_TRUE(status.ok()) << status.message();
+    status = backend->OptimizeWindow();
+    EXPECT_TRUE(status.ok()) << status.message();
+  }
+  return {backend->Keyframes(),
+          backend->Objects(),
+          backend->Assignments(),
+          backend->Statistics()};
+}
+
+// A copy of `detection` whose every hypothesis is moved by T_co * delta.
+DetectionInput Moved(DetectionInput detection,
+                     const std::string& id,
+                     const Rigid3d& delta) {
+  detection.id = id;
+  for (PoseHypothesis& h : detection.hypotheses) h.T_co = h.T_co * delta;
+  return detection;
+}
+
+// Gross outliers: one detection 1.5 m off (a new tentative object that is
+// never confirmed) and one at the right place turned 180 deg about an axis
+// of the chair (symba: a single flip, no edge; sh, mh: a tentative object).
+// Neither may move a camera or the chair.
+TEST(BackendRobustness, GrossOutliersLeaveMapAndCamerasUnchanged) {
+  const ScriptedSequence seq = ChairSequence();
+  std::vector<KeyframeInput> with_outliers = seq.keyframes;
+  const DetectionInput& at_7 = seq.keyframes[7].detections.front();
+  with_outliers[7].detections.push_back(Moved(
+      at_7,
+      "outlier-far",
+      Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(1.5, 0.0, 0.0))));
+  const DetectionInput& at_9 = seq.keyframes[9].detections.front();
+  with_outliers[9].detections = {Moved(
+      at_9,
+      "outlier-flip",
+      Rigid3d(
+          Eigen::Quaterniond(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX())),
+          Eigen::Vector3d::Zero()))};
+
+  for (Method method :
+       {Method::kSymba, Method::kMultiHypothesis, Method::kSingleHypothesis}) {
+    SCOPED_TRACE(MethodName(method));
+    BackendOptions options;
+    options.method = method;
+    // Without the flipped detection at keyframe 9 at all: the clean run.
+    std::vector<KeyframeInput> clean = seq.keyframes;
+    clean[9].detections.clear();
+    const RunResult a = Replay(clean, options, seq.intrinsics);
+    const RunResult b = Replay(with_outliers, options, seq.intrinsics);
+    ASSERT_EQ(a.keyframes.size(), b.keyframes.size());
+    for (size_t k = 0; k < a.keyframes.size(); ++k) {
+      EXPECT_LT((a.keyframes[k].T_wc.t - b.keyframes[k].T_wc.t).norm(), 1e-9)
+          << k;
+      EXPECT_LT(a.keyframes[k].T_wc.q.angularDistance(b.keyframes[k].T_wc.q),
+                1e-9)
+          << k;
+    }
+    ASSERT_EQ(a.objects.size(), 1u);
+    ASSERT_EQ(b.objects.size(), 1u);
+    EXPECT_LT((a.objects[0].t_wo - b.objects[0].t_wo).norm(), 1e-9);
+    EXPECT_EQ(b.statistics.object_upgrades, 0);
+    // The far outlier's tentative object was dropped: its detection is in
+    // no map object.
+    for (const DetectionAssignment& assignment : b.assignments) {
+      if (assignment.detection == "outlier-far") {
+        EXPECT_EQ(assignment.object, -1);
+      }
+      if (assignment.detection == "outlier-flip") {
+        // symba: joined the chair without an edge; sh, mh: dropped.
+        EXPECT_EQ(assignment.object,
+                  method == Method::kSymba ? b.objects[0].id : -1);
+      }
+    }
+    EXPECT_EQ(b.statistics.objects_dropped, method == Method::kSymba ? 1 : 2);
+    EXPECT_EQ(b.statistics.rotation_outliers, method == Method::kSymba ? 1 : 0);
+  }
+}
+
+// Hand-made keyframes for the lifecycle and window tests: camera k at
+// x = 0.1 k looking along z with odometry between keyframes; `detections`
+// lists which keyframes see a "box" at (0.2, 0, 2) (its pose slightly off,
+// so a solve has something to do).
+std::vector<KeyframeInput> BoxKeyframes(int n, const std::vector<int>& seen) {
+  std::vector<KeyframeInput> keyframes;
+  const Rigid3d T_wo(Eigen::Quaterniond::Identity(),
+                     Eigen::Vector3d(0.2, 0.0, 2.0));
+  for (int k = 0; k < n; ++k) {
+    KeyframeInput kf;
+    kf.id = k;
+    kf.timestamp = 0.1 * k;
+    const Rigid3d T_wc(Eigen::Quaterniond::Identity(),
+                       Eigen::Vector3d(0.1 * k, 0.0, 0.0));
+    if (k == 0) {
+      kf.T_wc = T_wc;
+    } else {
+      Odometry odometry;
+      odometry.T_prev_cur = Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(
+                                        0.002, Eigen::Vector3d::UnitY())),
+                                    Eigen::Vector3d(0.1, 0.001 * (k % 3), 0.0));
+      odometry.sigma_t = 0.01;
+      odometry.sigma_r = 0.01;
+      kf.odometry = odometry;
+    }
+    for (int s : seen) {
+      if (s != k) continue;
+      DetectionInput det;
+      det.id = std::to_string(k) + "/box";
+      det.class_name = "box";
+      det.sigma_t = 0.02;
+      det.sigma_r = 0.05;
+      const Rigid3d offset(Eigen::Quaterniond(Eigen::AngleAxisd(
+                               0.01 * k, Eigen::Vector3d::UnitZ())),
+                           Eigen::Vector3d(0.005 * (k % 2), 0.0, 0.0));
+      det.hypotheses.push_back({T_wc.Inverse() * T_wo * offset, 1.0});
+      kf.detections.push_back(det);
+    }
+    keyframes.push_back(kf);
+  }
+  return keyframes;
+}
+
+TEST(BackendRobustness, TentativeObjectsAreConfirmedOrDropped) {
+  BackendOptions options;
+  options.confirm_keyframes = 3;
+  options.tentative_timeout = 4;
+  for (Method method : {Method::kSymba, Method::kSingleHypothesis}) {
+    SCOPED_TRACE(MethodName(method));
+    options.method = method;
+    // Seen at 0, 1 (not enough), then not for 4 keyframes: dropped at 5.
+    std::unique_ptr<Backend> backend;
+    ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
+    const std::vector<KeyframeInput> dropped = BoxKeyframes(8, {0, 1});
+    for (int k = 0; k < 8; ++k) {
+      ASSERT_TRUE(backend->AddKeyframe(dropped[k]).ok());
+      ASSERT_TRUE(backend->OptimizeWindow().ok());
+      EXPECT_TRUE(backend->Objects().empty()) << k;
+      EXPECT_EQ(backend->Statistics().objects_dropped, k >= 5 ? 1 : 0) << k;
+      EXPECT_EQ(backend->Assignments()[0].object, k >= 5 ? -1 : 0) << k;
+    }
+    EXPECT_EQ(backend->Statistics().objects, 0);
+
+    // Seen at 0, 2, 4: confirmed by the third view, with all three.
+    ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
+    const std::vector<KeyframeInput> confirmed = BoxKeyframes(6, {0, 2, 4});
+    for (int k = 0; k < 6; ++k) {
+      ASSERT_TRUE(backend->AddKeyframe(confirmed[k]).ok());
+      ASSERT_TRUE(backend->OptimizeWindow().ok());
+      EXPECT_EQ(backend->Objects().size(), k >= 4 ? 1u : 0u) << k;
+    }
+    EXPECT_EQ(backend->Objects()[0].observations, 3);
+    EXPECT_EQ(backend->Statistics().objects, 1);
+    EXPECT_EQ(backend->Statistics().objects_dropped, 0);
+  }
+}
+
+TEST(BackendWindow, OlderKeyframesStayAndOldEdgesReenter) {
+  BackendOptions options;
+  options.window_size = 3;
+  options.confirm_keyframes = 1;
+  std::unique_ptr<Backend> backend;
+  ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
+  // The box is seen by keyframes 0 and 9 only.
+  const std::vector<KeyframeInput> keyframes = BoxKeyframes(10, {0, 9});
+  for (int k = 0; k < 10; ++k) {
+    ASSERT_TRUE(backend->AddKeyframe(keyframes[k]).ok());
+    const std::vector<KeyframeEstimate> before = backend->Keyframes();
+    SolveReport report;
+    ASSERT_TRUE(backend->OptimizeWindow(&report).ok());
+    const std::vector<KeyframeEstimate> after = backend->Keyframes();
+    // Keyframes before the window (and the gauge) are bit-identical.
+    for (int j = 0; j < k + 1; ++j) {
+      if (j > 0 && j >= k - 2) continue;
+      EXPECT_EQ(before[j].T_wc.t, after[j].T_wc.t) << k << " " << j;
+      EXPECT_EQ(before[j].T_wc.q.coeffs(), after[j].T_wc.q.coeffs())
+          << k << " " << j;
+    }
+    EXPECT_EQ(report.free_keyframes, std::min(k, 3)) << k;
+    // The window's odometry factors (each keyframe's to its predecessor),
+    // plus, while the box is observed in the window (k = 0..2 and 9), all
+    // of its edges: at k = 9 the edge of keyframe 0 is back as context.
+    const int odometry = std::min(k, 3);
+    const int box_edges = k <= 2 ? 1 : (k == 9 ? 2 : 0);
+    EXPECT_EQ(report.residual_blocks, odometry + box_edges) << k;
+  }
+  // The solve at keyframe 9 moved the window: keyframe 9 is not where the
+  // odometry alone put it.
+  EXPECT_EQ(backend->Objects().size(), 1u);
+  EXPECT_EQ(backend->Objects()[0].observations, 2);
+}
+
+}  // namespace
+}  // namespace symba

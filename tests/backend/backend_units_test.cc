@@ -1,0 +1,381 @@
+// Unit tests of the backend's internal units (src/backend/*.h): the noise
+// estimator, the upgrade evidence, the association gates on hand-built
+// object sets and the persistent window problem. Every expected value is
+// derived in the comment next to it.
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <ceres/ceres.h>
+#include <gtest/gtest.h>
+
+#include "backend/association.h"
+#include "backend/detection_noise.h"
+#include "backend/upgrade_evidence.h"
+#include "backend/window_problem.h"
+#include "symba/geometry/angle.h"
+
+namespace symba::internal {
+namespace {
+
+constexpr double kDeg = kPi / 180.0;
+
+Eigen::Quaterniond Rot(const Eigen::Vector3d& axis, double angle) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
+}
+
+// ---------------------------------------------------------------------------
+// Detection noise.
+
+TEST(RobustScale, IsTheMedianOverTheChi3Median) {
+  RobustScale scale(10);
+  for (double v : {0.5, 0.1, 0.3, 9.0, 0.2}) scale.Add(v);
+  // Sorted 0.1 0.2 0.3 0.5 9.0: median 0.3, the outlier does not count.
+  EXPECT_DOUBLE_EQ(scale.Sigma(), 0.3 / kChi3Median);
+  scale.Add(0.4);
+  // 0.1 0.2 0.3 0.4 0.5 9.0: median (0.3 + 0.4) / 2.
+  EXPECT_DOUBLE_EQ(scale.Sigma(), 0.35 / kChi3Median);
+}
+
+TEST(RobustScale, KeepsOnlyTheLastWindowValues) {
+  RobustScale scale(3);
+  for (double v : {1.0, 1.0, 1.0, 5.0, 6.0, 7.0}) scale.Add(v);
+  EXPECT_EQ(scale.size(), 3);
+  EXPECT_DOUBLE_EQ(scale.Sigma(), 6.0 / kChi3Median);
+}
+
+TEST(CorrelatedSigma, InflatesCorrelatedErrorsByTheirEffectiveCount) {
+  // Independent errors: increments have the level's sigma, rho = 0.
+  EXPECT_DOUBLE_EQ(CorrelatedSigma(0.1, 0.1), 0.1);
+  // sigma_I = sigma_L / 2: rho = 1 - 1/4 = 0.75, factor sqrt(1.75 / 0.25).
+  EXPECT_DOUBLE_EQ(CorrelatedSigma(0.1, 0.05), 0.1 * std::sqrt(7.0));
+  // Larger increments than levels: rho clamps at 0.
+  EXPECT_DOUBLE_EQ(CorrelatedSigma(0.1, 0.2), 0.1);
+  // No increment: rho clamps at 0.98, factor sqrt(1.98 / 0.02) = sqrt(99).
+  EXPECT_DOUBLE_EQ(CorrelatedSigma(0.1, 0.0), 0.1 * std::sqrt(99.0));
+}
+
+TEST(DetectionNoiseEstimator, EstimatesPerClassOnceThereAreEnoughSamples) {
+  using Kind = DetectionNoiseEstimator::Kind;
+  DetectionNoiseEstimator noise(100, 3);
+  noise.AddTranslation("box", Kind::kLevel, 0.2);
+  noise.AddTranslation("box", Kind::kLevel, 0.2);
+  EXPECT_FALSE(noise.Estimate("box").sigma_t.has_value());
+  noise.AddTranslation("box", Kind::kLevel, 0.2);
+  // Levels only: sigma_L.
+  ASSERT_TRUE(noise.Estimate("box").sigma_t.has_value());
+  EXPECT_DOUBLE_EQ(*noise.Estimate("box").sigma_t, 0.2 / kChi3Median);
+  EXPECT_FALSE(noise.Estimate("box").sigma_r.has_value());
+  EXPECT_FALSE(noise.Estimate("can").sigma_t.has_value());
+  // Increments of 0.2 sqrt(2) / 2: sigma_I = sigma_L / 2 (rho = 0.75).
+  for (int i = 0; i < 3; ++i) {
+    noise.AddTranslation("box", Kind::kIncrement, 0.1 * std::sqrt(2.0));
+  }
+  EXPECT_NEAR(*noise.Estimate("box").sigma_t,
+              0.2 / kChi3Median * std::sqrt(7.0),
+              1e-12);
+  // Never below the floor.
+  for (int i = 0; i < 3; ++i) noise.AddRotation("can", Kind::kLevel, 0.0);
+  EXPECT_DOUBLE_EQ(*noise.Estimate("can").sigma_r, kMinSigmaR);
+}
+
+TEST(EffectiveSigma, ClaimsWinThenTheLargerOfFloorAndEstimate) {
+  EXPECT_DOUBLE_EQ(EffectiveSigma(0.03, true, 0.5), 0.03);  // the claim
+  EXPECT_DOUBLE_EQ(EffectiveSigma(2.0, false, 0.5), 2.0);   // the floor
+  EXPECT_DOUBLE_EQ(EffectiveSigma(2.0, false, 3.0), 3.0);   // the estimate
+  EXPECT_DOUBLE_EQ(EffectiveSigma(2.0, false, std::nullopt), 2.0);
+}
+
+// ---------------------------------------------------------------------------
+// Upgrade evidence.
+
+TEST(PlausibleOrder, IsTheSmallestOrderTheAngleFits) {
+  const double tolerance = 10 * kDeg;
+  EXPECT_EQ(PlausibleOrder(kPi, 4, tolerance), 2);
+  EXPECT_EQ(PlausibleOrder(-kPi + 5 * kDeg, 4, tolerance), 2);
+  EXPECT_EQ(PlausibleOrder(90 * kDeg, 4, tolerance), 4);
+  EXPECT_EQ(PlausibleOrder(-95 * kDeg, 4, tolerance), 4);
+  EXPECT_EQ(PlausibleOrder(120 * kDeg, 4, tolerance), 3);
+  // 60 deg needs order 6 and 150 deg order 5 (144 deg), beyond 4: the
+  // default max_upgrade_order keeps such "symmetries" out. 5 deg fits none.
+  EXPECT_EQ(PlausibleOrder(60 * kDeg, 4, tolerance), 0);
+  EXPECT_EQ(PlausibleOrder(60 * kDeg, 6, tolerance), 6);
+  EXPECT_EQ(PlausibleOrder(150 * kDeg, 4, tolerance), 0);
+  EXPECT_EQ(PlausibleOrder(150 * kDeg, 6, tolerance), 5);
+  EXPECT_EQ(PlausibleOrder(5 * kDeg, 6, tolerance), 0);
+  EXPECT_TRUE(FitsOrder(240 * kDeg, 3, tolerance));  // -120 deg
+  EXPECT_FALSE(FitsOrder(100 * kDeg, 2, tolerance));
+}
+
+TEST(ConsistentFlips, CountsAgreeingFlipsOncePerKeyframe) {
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  std::vector<FlipEvidence> flips = {
+      {1, z, 178 * kDeg},
+      {1, z, 176 * kDeg},                  // same keyframe: not again
+      {3, -z, 174 * kDeg},                 // the axis sign is free
+      {4, Eigen::Vector3d::UnitX(), kPi},  // another axis
+      {5, z, 90 * kDeg},                   // another angle
+      {6, Rot(Eigen::Vector3d::UnitX(), 10 * kDeg) * z, 170 * kDeg},
+  };
+  const FlipConsensus consensus =
+      ConsistentFlips(flips, {6, z, 176 * kDeg}, 20 * kDeg, 20 * kDeg);
+  EXPECT_EQ(consensus.count, 3);  // keyframes 1, 3, 6
+  EXPECT_NEAR(consensus.mean_angle, (178 + 174 + 170) / 3.0 * kDeg, 1e-12);
+}
+
+// ---------------------------------------------------------------------------
+// Association on hand-built objects.
+
+std::unique_ptr<ObjectState> AsymmetricObject(int id,
+                                              const std::string& class_name,
+                                              const Rigid3d& T_wo,
+                                              ObjectStatus status) {
+  auto object = std::make_unique<ObjectState>();
+  object->id = id;
+  object->class_name = class_name;
+  object->status = status;
+  Eigen::Map<Eigen::Quaterniond>(object->q) = T_wo.q;
+  Eigen::Map<Eigen::Vector3d>(object->t) = T_wo.t;
+  return object;
+}
+
+TEST(PositionGate, CombinesDetectionObjectAndPrediction) {
+  BackendOptions options;
+  options.gate_position = 0.5;
+  options.gate_sigmas = 3.0;
+  ObjectState object;
+  AssociationScope scope;
+  EXPECT_DOUBLE_EQ(PositionGate(object, scope, options), 0.5);  // unknown
+  scope.sigma_t = 0.04;
+  object.observations.resize(3);
+  // 3 sqrt(0.04^2 (1 + 1/3)) = 0.12 / sqrt(0.75).
+  EXPECT_NEAR(PositionGate(object, scope, options),
+              3.0 * 0.04 * std::sqrt(4.0 / 3.0),
+              1e-12);
+  scope.prediction_variance = 0.01;
+  EXPECT_NEAR(PositionGate(object, scope, options),
+              3.0 * std::sqrt(0.0016 * 4.0 / 3.0 + 0.01),
+              1e-12);
+  scope.sigma_t = 1.0;  // capped by gate_position
+  EXPECT_DOUBLE_EQ(PositionGate(object, scope, options), 0.5);
+  options.gate_sigmas = 0.0;
+  scope.sigma_t = 0.01;
+  EXPECT_DOUBLE_EQ(PositionGate(object, scope, options), 0.5);
+}
+
+TEST(FindSixDofMatch, GatesPositionRotationClassAndStatus) {
+  BackendOptions options;  // gate 0.5 m, 30 deg
+  ObjectList objects;
+  objects.push_back(
+      AsymmetricObject(0,
+                       "chair",
+                       Rigid3d(Eigen::Quaterniond::Identity(), {0, 0, 0}),
+                       ObjectStatus::kConfirmed));
+  objects.push_back(
+      AsymmetricObject(1,
+                       "chair",
+                       Rigid3d(Eigen::Quaterniond::Identity(), {0.3, 0, 0}),
+                       ObjectStatus::kTentative));
+  objects.push_back(
+      AsymmetricObject(2,
+                       "table",
+                       Rigid3d(Eigen::Quaterniond::Identity(), {0.1, 0, 0}),
+                       ObjectStatus::kConfirmed));
+  AssociationScope confirmed;
+  AssociationScope tentative;
+  tentative.status = ObjectStatus::kTentative;
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  // 0.2 m from object 0, 0.1 m from tentative object 1.
+  const Rigid3d near(Rot(z, 10 * kDeg), {0.2, 0, 0});
+  EXPECT_EQ(FindSixDofMatch(objects, "chair", {near}, confirmed, options), 0);
+  EXPECT_EQ(FindSixDofMatch(objects, "chair", {near}, tentative, options), 1);
+  EXPECT_EQ(FindSixDofMatch(objects, "table", {near}, confirmed, options), 2);
+  EXPECT_EQ(FindSixDofMatch(objects, "bed", {near}, confirmed, options), -1);
+  // Rotation beyond 30 deg, position beyond 0.5 m.
+  const Rigid3d turned(Rot(z, 40 * kDeg), {0, 0, 0});
+  const Rigid3d far(Eigen::Quaterniond::Identity(), {0.6, 0, 0});
+  EXPECT_EQ(FindSixDofMatch(objects, "chair", {turned}, confirmed, options),
+            -1);
+  EXPECT_EQ(FindSixDofMatch(objects, "chair", {far}, confirmed, options), -1);
+  // Any candidate may match (MH).
+  EXPECT_EQ(
+      FindSixDofMatch(objects, "chair", {turned, near}, confirmed, options), 0);
+  // The detection's noise tightens the position gate: 3 sigma.
+  options.gate_sigmas = 3.0;
+  confirmed.sigma_t = 0.05;  // n = 0 counts as 1: 3 * 0.05 * sqrt(2) = 0.21
+  EXPECT_EQ(FindSixDofMatch(objects, "chair", {near}, confirmed, options), 0);
+  confirmed.sigma_t = 0.04;  // 0.17 < 0.2
+  EXPECT_EQ(FindSixDofMatch(objects, "chair", {near}, confirmed, options), -1);
+}
+
+CategorizedDetection AsymmetricDetection(const Rigid3d& T_co) {
+  CategorizedDetection cat;
+  cat.type = SymmetryType::kAsymmetric;
+  cat.T_co_base = T_co;
+  cat.t_co = T_co.t;
+  cat.inliers = {0};
+  return cat;
+}
+
+TEST(FindSymbaMatch, AFlipIsEvidenceNotAnUpgrade) {
+  BackendOptions options;
+  ObjectList objects;
+  objects.push_back(
+      AsymmetricObject(0,
+                       "box",
+                       Rigid3d(Eigen::Quaterniond::Identity(), {0, 0, 2}),
+                       ObjectStatus::kConfirmed));
+  const Rigid3d T_wc;  // identity
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  // The same pose: a 6-DoF match.
+  Rigid3d T_co(Rot(z, 5 * kDeg), {0.05, 0, 2});
+  std::vector<PoseHypothesis> hyps = {{T_co, 1.0}};
+  SymbaMatch match = FindSymbaMatch(objects,
+                                    T_wc,
+                                    AsymmetricDetection(T_co),
+                                    "box",
+                                    hyps,
+                                    nullptr,
+                                    {},
+                                    options);
+  EXPECT_EQ(match.object, 0);
+  EXPECT_FALSE(match.flip);
+  EXPECT_FALSE(match.upgrade);
+  // Turned by 178 deg about z: a flip with that axis and angle.
+  T_co = Rigid3d(Rot(z, 178 * kDeg), {0.05, 0, 2});
+  hyps = {{T_co, 1.0}};
+  match = FindSymbaMatch(objects,
+                         T_wc,
+                         AsymmetricDetection(T_co),
+                         "box",
+                         hyps,
+                         nullptr,
+                         {},
+                         options);
+  EXPECT_EQ(match.object, 0);
+  EXPECT_TRUE(match.flip);
+  EXPECT_FALSE(match.upgrade);
+  EXPECT_NEAR(std::abs(match.a_o.dot(z)), 1.0, 1e-9);
+  EXPECT_NEAR(match.flip_angle, 178 * kDeg, 1e-9);
+  // An asymmetric class prior forbids it: no match at all.
+  ClassPrior asymmetric;
+  asymmetric.symmetry = SymmetryType::kAsymmetric;
+  match = FindSymbaMatch(objects,
+                         T_wc,
+                         AsymmetricDetection(T_co),
+                         "box",
+                         hyps,
+                         &asymmetric,
+                         {},
+                         options);
+  EXPECT_EQ(match.object, -1);
+}
+
+TEST(FindSymbaMatch, ASymmetricDetectionUpgradesAnAsymmetricObject) {
+  BackendOptions options;
+  ObjectList objects;
+  objects.push_back(
+      AsymmetricObject(0,
+                       "table",
+                       Rigid3d(Eigen::Quaterniond::Identity(), {0, 0, 2}),
+                       ObjectStatus::kConfirmed));
+  CategorizedDetection cat;
+  cat.type = SymmetryType::kDiscrete;
+  cat.axis_o = Eigen::Vector3d::UnitZ();
+  cat.axis_c = Eigen::Vector3d::UnitZ();
+  cat.t_co = Eigen::Vector3d(0, 0.1, 2);
+  cat.T_co_base = Rigid3d(Eigen::Quaterniond::Identity(), cat.t_co);
+  const SymbaMatch match = FindSymbaMatch(
+      objects, Rigid3d(), cat, "table", {}, nullptr, {}, options);
+  EXPECT_EQ(match.object, 0);
+  EXPECT_TRUE(match.upgrade);
+  EXPECT_TRUE(match.a_o.isApprox(Eigen::Vector3d::UnitZ()));
+  // An axis 30 deg off (gate 20 deg) does not match.
+  cat.axis_c = Rot(Eigen::Vector3d::UnitX(), 30 * kDeg) * cat.axis_o;
+  EXPECT_EQ(
+      FindSymbaMatch(objects, Rigid3d(), cat, "table", {}, nullptr, {}, options)
+          .object,
+      -1);
+}
+
+TEST(FindAngle, MatchesTheNearestAngleWithinTheGate) {
+  ObjectState object;
+  object.type = SymmetryType::kDiscrete;
+  object.a_o = Eigen::Vector3d::UnitZ();
+  object.anchor = SymmetryAnchor::FromObjectRotation(
+      Eigen::Quaterniond::Identity(), object.a_o);
+  Eigen::Map<Eigen::Vector3d>(object.a_w) = object.anchor.a_w0;
+  object.thetas.push_back(std::make_unique<double>(0.0));
+  object.thetas.push_back(std::make_unique<double>(kPi));
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  EXPECT_EQ(FindAngle(object, Rot(z, 10 * kDeg), 20 * kDeg), 0);
+  EXPECT_EQ(FindAngle(object, Rot(z, 170 * kDeg), 20 * kDeg), 1);
+  EXPECT_EQ(FindAngle(object, Rot(z, 90 * kDeg), 20 * kDeg), -1);
+  EXPECT_NEAR(NewAngleTheta(object, Rot(z, 90 * kDeg)), 90 * kDeg, 1e-12);
+}
+
+// ---------------------------------------------------------------------------
+// The persistent problem.
+
+// r = x - target, one block of size 1.
+struct Offset {
+  explicit Offset(double target) : target(target) {}
+  template <typename T>
+  bool operator()(const T* x, T* r) const {
+    r[0] = x[0] - T(target);
+    return true;
+  }
+  double target;
+};
+
+FactorRecord OffsetFactor(double* block, double target) {
+  FactorRecord record;
+  record.cost.reset(
+      new ceres::AutoDiffCostFunction<Offset, 1, 1>(new Offset(target)));
+  record.blocks = {block};
+  record.keyframe = 0;
+  return record;
+}
+
+TEST(WindowProblem, HoldsExactlyTheActiveFactorsAndTheirBlocks) {
+  double a = 0.0;
+  double b = 0.0;
+  WindowProblem problem;
+  const int fa = problem.Add(OffsetFactor(&a, 1.0));
+  const int fb = problem.Add(OffsetFactor(&b, 2.0));
+  EXPECT_EQ(problem.size(), 2);
+  EXPECT_EQ(problem.NumResidualBlocks(), 0);  // nothing until a sync
+
+  problem.Sync({1, 0});
+  EXPECT_EQ(problem.NumResidualBlocks(), 1);
+  EXPECT_TRUE(problem.HasBlock(&a));
+  EXPECT_FALSE(problem.HasBlock(&b));
+
+  problem.Sync({0, 1});  // a leaves with its block, b enters
+  EXPECT_EQ(problem.NumResidualBlocks(), 1);
+  EXPECT_FALSE(problem.HasBlock(&a));
+  EXPECT_TRUE(problem.HasBlock(&b));
+
+  problem.Sync({1, 1});  // a re-enters
+  EXPECT_EQ(problem.NumResidualBlocks(), 2);
+  ceres::Solver::Options options;
+  options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  problem.SetConstant(&b, true);
+  problem.Solve(options, &summary);
+  EXPECT_NEAR(a, 1.0, 1e-6);  // to the solver's tolerances
+  EXPECT_EQ(b, 0.0);  // constant
+
+  problem.Retire(fa);  // out for good, its cost function freed
+  EXPECT_TRUE(problem.factor(fa).retired);
+  EXPECT_EQ(problem.factor(fa).cost, nullptr);
+  EXPECT_EQ(problem.NumResidualBlocks(), 1);
+  problem.Sync({1, 1});  // a retired factor never re-enters
+  EXPECT_EQ(problem.NumResidualBlocks(), 1);
+  EXPECT_NE(problem.factor(fb).residual, nullptr);
+}
+
+}  // namespace
+}  // namespace symba::internal

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <iterator>
 #include <thread>
 
 namespace symba::bench {
@@ -51,6 +52,49 @@ Status WriteText(const std::string& path, const std::string& text) {
   out.close();
   if (!out) return Status::Error(path + ": cannot write");
   return Status::Ok();
+}
+
+namespace {
+
+std::string ReadOrEmpty(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in),
+                     std::istreambuf_iterator<char>());
+}
+
+// The offset of the line `heading` in `text`, or npos.
+std::size_t HeadingAt(const std::string& text, const std::string& heading) {
+  if (text.compare(0, heading.size(), heading) == 0) return 0;
+  const std::size_t at = text.find("\n" + heading);
+  return at == std::string::npos ? at : at + 1;
+}
+
+}  // namespace
+
+std::string TailFrom(const std::string& path, const std::string& heading) {
+  const std::string text = ReadOrEmpty(path);
+  const std::size_t at = HeadingAt(text, heading);
+  return at == std::string::npos ? "" : text.substr(at);
+}
+
+Status WriteKeepingTail(const std::string& path,
+                        const std::string& head,
+                        const std::string& heading) {
+  const std::string tail = TailFrom(path, heading);
+  return WriteText(path, tail.empty() ? head : head + "\n" + tail);
+}
+
+Status ReplaceTail(const std::string& path,
+                   const std::string& heading,
+                   const std::string& section) {
+  std::string text = ReadOrEmpty(path);
+  const std::size_t at = HeadingAt(text, heading);
+  if (at != std::string::npos) {
+    text.erase(at);
+  } else if (!text.empty()) {
+    text += "\n";
+  }
+  return WriteText(path, text + section);
 }
 
 std::string Command(int argc, char** argv) {

@@ -24,6 +24,21 @@ std::string Count(int n, const std::string& noun);
 // Writes `text` to `path`; "PATH: cannot write".
 Status WriteText(const std::string& path, const std::string& text);
 
+// docs/results.md has two authors: symba-bench writes the simulated scenes
+// and symba-real-bench the last section, "## Real data" (kRealDataHeading).
+inline constexpr const char* kRealDataHeading = "## Real data\n";
+// The part of the file at `path` from the line `heading` on ("" if the
+// file or the heading is missing).
+std::string TailFrom(const std::string& path, const std::string& heading);
+// Writes `head` followed by the file's tail from `heading` (kept).
+Status WriteKeepingTail(const std::string& path,
+                        const std::string& head,
+                        const std::string& heading);
+// Replaces the file's tail from `heading` (or appends) with `section`.
+Status ReplaceTail(const std::string& path,
+                   const std::string& heading,
+                   const std::string& section);
+
 // The command line, space-separated.
 std::string Command(int argc, char** argv);
 // "CPU model, N hardware threads, OS release machine".

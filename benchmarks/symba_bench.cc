@@ -540,7 +540,9 @@ int main(int argc, char** argv) {
       ResultsMarkdown(flags, runs, Command(argc, argv));
   std::fputs(markdown.c_str(), stdout);
   if (!flags.results_md.empty()) {
-    const Status status = WriteText(flags.results_md, markdown);
+    // The real-data section (symba-real-bench) stays.
+    const Status status = symba::bench::WriteKeepingTail(
+        flags.results_md, markdown, symba::bench::kRealDataHeading);
     if (!status.ok()) {
       std::fprintf(stderr, "symba-bench: %s\n", status.message().c_str());
       return 1;

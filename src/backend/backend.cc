@@ -19,16 +19,12 @@ namespace symba {
 
 using internal::FactorRecord;
 using internal::KeyframeState;
+using internal::Normalized;
 using internal::ObjectObservation;
 using internal::ObjectState;
 using internal::PointState;
 
 namespace {
-
-Rigid3d Normalized(Rigid3d T) {
-  T.q.normalize();
-  return T;
-}
 
 std::unique_ptr<ceres::LossFunction> MakeLoss(LossType type, double scale) {
   switch (type) {

@@ -109,6 +109,10 @@ Status BackendOptions::Validate() const {
         "confirm_keyframes, tentative_timeout, upgrade_evidence and "
         "noise_min_samples must be >= 1, noise_window >= noise_min_samples");
   }
+  if (!(std::isfinite(upgrade_min_fraction) && upgrade_min_fraction >= 0.0 &&
+        upgrade_min_fraction <= 1.0)) {
+    return Status::Error("upgrade_min_fraction must be in [0, 1]");
+  }
   if (!(std::isfinite(min_support) && min_support >= 0.0 &&
         min_support <= 1.0) ||
       min_support_views < 1) {

@@ -28,6 +28,12 @@ inline Rigid3d ReadPose(const double* q, const double* t) {
                  Eigen::Map<const Eigen::Vector3d>(t));
 }
 
+// T with its quaternion normalised.
+inline Rigid3d Normalized(Rigid3d T) {
+  T.q.normalize();
+  return T;
+}
+
 inline void WritePose(const Rigid3d& T, double* q, double* t) {
   Eigen::Map<Eigen::Quaterniond> q_map(q);
   Eigen::Map<Eigen::Vector3d> t_map(t);

@@ -5,11 +5,6 @@
 namespace symba::internal {
 namespace {
 
-Rigid3d Normalized(Rigid3d T) {
-  T.q.normalize();
-  return T;
-}
-
 // A detection's hypotheses as edge components, for the given indices.
 std::vector<PoseComponent> Components(const std::vector<PoseHypothesis>& hyps,
                                       const std::vector<int>& indices,

@@ -15,16 +15,8 @@ namespace symba {
 
 using internal::FactorRecord;
 using internal::KeyframeState;
+using internal::Normalized;
 using internal::PointState;
-
-namespace {
-
-Rigid3d Normalized(Rigid3d T) {
-  T.q.normalize();
-  return T;
-}
-
-}  // namespace
 
 Rigid3d Backend::Impl::InitialPose(const KeyframeInput& input) const {
   if (keyframes_.empty()) return Normalized(*input.T_wc);

@@ -149,7 +149,10 @@ bool Backend::Impl::RecordFlip(int o,
                                      options_.max_upgrade_order,
                                      options_.upgrade_angle_tolerance);
   }
-  if (consensus.count < options_.upgrade_evidence || order == 0) {
+  // keyframes_seen counts this keyframe only after the detection.
+  const int seen = object.keyframes_seen + (object.last_keyframe == k ? 0 : 1);
+  if (consensus.count < options_.upgrade_evidence ||
+      consensus.count < options_.upgrade_min_fraction * seen || order == 0) {
     ++statistics_.rotation_outliers;
     return false;
   }

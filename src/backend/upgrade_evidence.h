@@ -8,7 +8,11 @@
 // now and then, and a single noisy one would upgrade a box to a 3-, 5- or
 // 10-fold "symmetric" object. The object is upgraded to discrete when
 //   - at least `upgrade_evidence` flips from different keyframes agree:
-//     axes within gate_axis (sign-free), angles within gate_angle; and
+//     axes within gate_axis (sign-free), angles within gate_angle, and they
+//     are at least upgrade_min_fraction of the keyframes that detected the
+//     object (a real symmetric object seen by a single-pose detector flips
+//     in about half of them; a detector's occasional confusion in a few
+//     percent); and
 //   - their mean angle is a plausible symmetry: within
 //     upgrade_angle_tolerance of 2 pi j / K for an order K in
 //     2..max_upgrade_order (the prior's order only, with a discrete prior).

@@ -771,6 +771,7 @@ std::string FormatEvaluationJson(const Evaluation& e) {
         {"symmetry", ToString(o.symmetry)},
         {"order", o.order},
         {"detections", o.detections},
+        {"rejected", o.rejected},
         {"map_objects", o.map_objects},
         {"detections_per_map_object", std::move(per_map_object)},
         {"main_object",

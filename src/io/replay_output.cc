@@ -68,6 +68,13 @@ std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects) {
     for (const Rigid3d& pose : o.poses) poses.push_back(Pose(pose));
     object["poses"] = std::move(poses);
     object["observations"] = o.observations;
+    if (o.upgrade) {
+      // An asymmetric object that became symmetric, and on what evidence.
+      object["upgrade"] = Json{{"keyframe", o.upgrade->keyframe},
+                               {"evidence", o.upgrade->evidence},
+                               {"order", o.upgrade->order},
+                               {"angle", o.upgrade->angle}};
+    }
     list.push_back(std::move(object));
   }
   return Json{{"objects", std::move(list)}}.dump(2) + "\n";
@@ -102,7 +109,9 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
                 {"discrete", by_type[1]},
                 {"continuous", by_type[2]}}},
               {"points", s.points},
-              {"object_upgrades", s.object_upgrades}};
+              {"object_upgrades", s.object_upgrades},
+              {"objects_dropped", s.objects_dropped},
+              {"rotation_outliers", s.rotation_outliers}};
   Json timing{{"seconds", result.seconds},
               {"solve_seconds", s.solve_seconds},
               {"ms_per_keyframe", ms_per_keyframe}};
@@ -133,7 +142,17 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
             {"gate_position", b.gate_position},
             {"gate_axis", b.gate_axis},
             {"gate_rotation", b.gate_rotation},
-            {"gate_angle", b.gate_angle}};
+            {"gate_angle", b.gate_angle},
+            {"confirm_keyframes", b.confirm_keyframes},
+            {"tentative_timeout", b.tentative_timeout},
+            {"gate_sigmas", b.gate_sigmas},
+            {"estimate_noise", b.estimate_noise},
+            {"uncalibrated_sigma_t", b.uncalibrated_sigma_t},
+            {"uncalibrated_sigma_r", b.uncalibrated_sigma_r},
+            {"min_support", b.min_support},
+            {"upgrade_evidence", b.upgrade_evidence},
+            {"upgrade_min_fraction", b.upgrade_min_fraction},
+            {"max_upgrade_order", b.max_upgrade_order}};
   Json summary{{"log", log_path},
                {"method", MethodName(b.method)},
                {"mode", ReplayModeName(options.mode)},

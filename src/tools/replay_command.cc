@@ -172,6 +172,11 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                   "symba: agreeing flips before an asymmetric object becomes "
                   "discrete")
       ->capture_default_str();
+  cmd->add_option("--upgrade-min-fraction",
+                  b.upgrade_min_fraction,
+                  "symba: the agreeing flips' least share of the keyframes "
+                  "that detected the object")
+      ->capture_default_str();
   cmd->add_option("--max-upgrade-order",
                   b.max_upgrade_order,
                   "symba: the largest symmetry order a flip may show")

@@ -22,6 +22,7 @@
 #include "symba/evaluation/trajectory_error.h"
 #include "symba/import/tum_import.h"
 #include "symba/io/tum_trajectory.h"
+#include "test_support/backend_replay.h"
 
 namespace symba {
 namespace {
@@ -81,13 +82,8 @@ TEST(BackendRealData, Ycbv0001KeepsTheCameraAndOneObjectPerBox) {
     BackendOptions options;
     options.method = method;
     std::unique_ptr<Backend> backend;
-    ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
-    for (const KeyframeInput& keyframe : keyframes) {
-      status = backend->AddKeyframe(keyframe);
-      ASSERT_TRUE(status.ok()) << status.message();
-      status = backend->OptimizeWindow();
-      ASSERT_TRUE(status.ok()) << status.message();
-    }
+    ASSERT_NO_FATAL_FAILURE(
+        testing::ReplayWindowed(keyframes, options, std::nullopt, &backend));
     std::vector<TrajectoryPose> estimate;
     for (const KeyframeEstimate& k : backend->Keyframes()) {
       estimate.push_back({k.timestamp, k.T_wc, 0});

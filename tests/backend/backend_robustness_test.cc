@@ -16,6 +16,7 @@
 
 #include "symba/backend/backend.h"
 #include "symba/geometry/angle.h"
+#include "test_support/backend_replay.h"
 #include "test_support/scripted_sequence.h"
 
 namespace symba {
@@ -54,14 +55,8 @@ RunResult Replay(const std::vector<KeyframeInput>& keyframes,
                  const BackendOptions& options,
                  const std::optional<PinholeIntrinsics>& intrinsics) {
   std::unique_ptr<Backend> backend;
-  Status status = Backend::Create(options, intrinsics, {}, &backend);
-  EXPECT_TRUE(status.ok()) << status.message();
-  for (const KeyframeInput& keyframe : keyframes) {
-    status = backend->AddKeyframe(keyframe);
-    EXPECT_TRUE(status.ok()) << status.message();
-    status = backend->OptimizeWindow();
-    EXPECT_TRUE(status.ok()) << status.message();
-  }
+  testing::ReplayWindowed(keyframes, options, intrinsics, &backend);
+  if (backend == nullptr) return {};
   return {backend->Keyframes(),
           backend->Objects(),
           backend->Assignments(),

@@ -227,33 +227,27 @@ TEST(FindSymbaMatch, AFlipIsEvidenceNotAnUpgrade) {
                        "box",
                        Rigid3d(Eigen::Quaterniond::Identity(), {0, 0, 2}),
                        ObjectStatus::kConfirmed));
-  const Rigid3d T_wc;  // identity
   const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
-  // The same pose: a 6-DoF match.
-  Rigid3d T_co(Rot(z, 5 * kDeg), {0.05, 0, 2});
-  std::vector<PoseHypothesis> hyps = {{T_co, 1.0}};
-  SymbaMatch match = FindSymbaMatch(objects,
-                                    T_wc,
-                                    AsymmetricDetection(T_co),
-                                    "box",
-                                    hyps,
-                                    nullptr,
-                                    {},
-                                    options);
+  // A one-hypothesis asymmetric detection turned by `angle` about z, seen
+  // from the identity camera.
+  auto match_turned = [&](double angle, const ClassPrior* prior) {
+    const Rigid3d T_co(Rot(z, angle), {0.05, 0, 2});
+    return FindSymbaMatch(objects,
+                          Rigid3d(),
+                          AsymmetricDetection(T_co),
+                          "box",
+                          {{T_co, 1.0}},
+                          prior,
+                          {},
+                          options);
+  };
+  // Nearly the same pose: a 6-DoF match.
+  SymbaMatch match = match_turned(5 * kDeg, nullptr);
   EXPECT_EQ(match.object, 0);
   EXPECT_FALSE(match.flip);
   EXPECT_FALSE(match.upgrade);
-  // Turned by 178 deg about z: a flip with that axis and angle.
-  T_co = Rigid3d(Rot(z, 178 * kDeg), {0.05, 0, 2});
-  hyps = {{T_co, 1.0}};
-  match = FindSymbaMatch(objects,
-                         T_wc,
-                         AsymmetricDetection(T_co),
-                         "box",
-                         hyps,
-                         nullptr,
-                         {},
-                         options);
+  // Turned by 178 deg: a flip with that axis and angle.
+  match = match_turned(178 * kDeg, nullptr);
   EXPECT_EQ(match.object, 0);
   EXPECT_TRUE(match.flip);
   EXPECT_FALSE(match.upgrade);
@@ -262,15 +256,7 @@ TEST(FindSymbaMatch, AFlipIsEvidenceNotAnUpgrade) {
   // An asymmetric class prior forbids it: no match at all.
   ClassPrior asymmetric;
   asymmetric.symmetry = SymmetryType::kAsymmetric;
-  match = FindSymbaMatch(objects,
-                         T_wc,
-                         AsymmetricDetection(T_co),
-                         "box",
-                         hyps,
-                         &asymmetric,
-                         {},
-                         options);
-  EXPECT_EQ(match.object, -1);
+  EXPECT_EQ(match_turned(178 * kDeg, &asymmetric).object, -1);
 }
 
 TEST(FindSymbaMatch, ASymmetricDetectionUpgradesAnAsymmetricObject) {
@@ -366,7 +352,7 @@ TEST(WindowProblem, HoldsExactlyTheActiveFactorsAndTheirBlocks) {
   problem.SetConstant(&b, true);
   problem.Solve(options, &summary);
   EXPECT_NEAR(a, 1.0, 1e-6);  // to the solver's tolerances
-  EXPECT_EQ(b, 0.0);  // constant
+  EXPECT_EQ(b, 0.0);          // constant
 
   problem.Retire(fa);  // out for good, its cost function freed
   EXPECT_TRUE(problem.factor(fa).retired);

@@ -122,7 +122,12 @@ struct BackendOptions {
   // `upgrade_evidence` flips in different keyframes agree (axis within
   // gate_axis, angle within gate_angle) on an angle within
   // upgrade_angle_tolerance of 2 pi j / K, K <= max_upgrade_order.
+  // The agreeing flips must also be at least upgrade_min_fraction of the
+  // keyframes that detected the object: a symmetric object seen by a
+  // single-pose detector flips in about half of them (1 - 1/K), a textured
+  // box that a detector now and then turns by 90 degrees in a few percent.
   int upgrade_evidence = 3;
+  double upgrade_min_fraction = 0.3;
   int max_upgrade_order = 4;
   double upgrade_angle_tolerance = 10.0 * kPi / 180.0;  // rad
 

@@ -740,9 +740,9 @@ TEST(ParkingGarage, ConvergesToTheCostDerivedFromTheSeSyncOptimum) {
   const std::string path = DataFile("parking-garage.g2o");
   ASSERT_TRUE(std::filesystem::exists(path))
       << path
-      << " is missing. The pose-graph datasets are expected in "
-         "../shared/data/posegraph beside the source tree (see SOURCES.md "
-         "there); this test does not skip without them.";
+      << " is missing. The pose-graph datasets are in the repository's "
+         "data/posegraph (see SOURCES.md there); this test does not skip "
+         "without them.";
 
   // 1. SE-Sync's isotropic weights: our cost is exactly half SE-Sync's
   //    objective at every state, so its optimum is half the published one.

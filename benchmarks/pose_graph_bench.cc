@@ -6,7 +6,7 @@
 //                         [--isotropic] [--g2o-half-angle] [file.g2o ...]
 //
 // Without files it solves parking-garage, sphere2500 and cubicle from
-// ../shared/data/posegraph beside the source tree. --isotropic reads every
+// the repository's data/posegraph. --isotropic reads every
 // information as SE-Sync's isotropic approximation (G2oReadOptions), so the
 // final cost is comparable to half the published SE-Sync optimum.
 // --g2o-half-angle uses g2o's literal rotation error

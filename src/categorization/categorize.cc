@@ -9,6 +9,7 @@
 #include <Eigen/SVD>
 
 #include "symba/categorization/circular_dbscan.h"
+#include "symba/common/check.h"
 #include "symba/geometry/angle.h"
 #include "symba/geometry/so3.h"
 #include "symba/geometry/swing_twist.h"
@@ -281,7 +282,10 @@ void RescueSmallModes(const CategorizationOptions& options, Work* work) {
   rescue_options.eps = options.cluster_eps;
   rescue_options.min_points = options.rescue_min_points;
   CircularDbscanResult rescue;
-  if (!CircularDbscan(noise_angles, rescue_options, &rescue).ok()) return;
+  // The caller runs this only with rescue_min_points > 0; cluster_eps is
+  // validated and the twists are finite, so DBSCAN cannot refuse its input.
+  const Status status = CircularDbscan(noise_angles, rescue_options, &rescue);
+  SYMBA_CHECK(status.ok()) << status.message();
   const int num_existing = static_cast<int>(dbscan.clusters.size());
   for (int r = 0; r < static_cast<int>(rescue.clusters.size()); ++r) {
     const CircularCluster& candidate = rescue.clusters[r];
@@ -312,20 +316,13 @@ void RescueSmallModes(const CategorizationOptions& options, Work* work) {
   }
 }
 
-// Steps 2-7 with reference r.
-Pass RunPass(const std::vector<PoseHypothesis>& hypotheses,
-             const CategorizationOptions& options,
-             const ClassPrior* prior,
-             int r,
-             bool last_pass,
-             Work* work,
-             CategorizationDiagnostics* diagnostics) {
-  const int n = static_cast<int>(hypotheses.size());
-  Pass pass;
-  const Eigen::Quaterniond q_r = work->q[r];
-  const Eigen::Quaterniond q_r_inv = q_r.conjugate();
-
-  // Step 2: relative rotations in the reference's object frame.
+// Step 2: relative rotations omega_j = Log(q_r^-1 q_j) in the reference's
+// object frame; rows farther than min_axis_angle get a direction and vote.
+void RelativeRotations(const CategorizationOptions& options,
+                       int r,
+                       Work* work) {
+  const int n = static_cast<int>(work->q.size());
+  const Eigen::Quaterniond q_r_inv = work->q[r].conjugate();
   work->theta.assign(n, 0.0);
   work->dir.assign(n, Eigen::Vector3d::Zero());
   work->far.clear();
@@ -340,51 +337,68 @@ Pass RunPass(const std::vector<PoseHypothesis>& hypotheses,
       work->far.push_back(j);
     }
   }
+}
 
-  // Step 3: axis votes.
-  const bool use_prior_axis = prior != nullptr &&
-                              prior->symmetry != SymmetryType::kAsymmetric &&
-                              prior->axis_o.norm() > 0.0;
-  const double cos_vote = std::cos(options.axis_vote_angle);
+// The winner of the axis votes of step 3.
+struct AxisVote {
   Eigen::Vector3d guess = Eigen::Vector3d::UnitZ();
   int support = 0;
   double support_weight = 0.0;
+};
+
+// Step 3: axis votes. With a prior axis, the far rows that agree with it;
+// otherwise the far row whose direction collects the most vote weight.
+AxisVote VoteAxis(const CategorizationOptions& options,
+                  const ClassPrior* prior,
+                  bool use_prior_axis,
+                  const Work& work,
+                  CategorizationDiagnostics* diagnostics) {
+  const double cos_vote = std::cos(options.axis_vote_angle);
+  AxisVote vote;
   if (use_prior_axis) {
-    guess = prior->axis_o.normalized();
-    for (int k : work->far) {
-      if (std::abs(work->dir[k].dot(guess)) >= cos_vote) {
-        ++support;
-        support_weight += work->w[k];
+    vote.guess = prior->axis_o.normalized();
+    for (int k : work.far) {
+      if (std::abs(work.dir[k].dot(vote.guess)) >= cos_vote) {
+        ++vote.support;
+        vote.support_weight += work.w[k];
       }
     }
     diagnostics->prior_axis_used = true;
   } else {
     double best_weight = -1.0;
-    for (int i : work->far) {
+    for (int i : work.far) {
       int count = 0;
       double weight = 0.0;
-      for (int k : work->far) {
-        if (std::abs(work->dir[i].dot(work->dir[k])) >= cos_vote) {
+      for (int k : work.far) {
+        if (std::abs(work.dir[i].dot(work.dir[k])) >= cos_vote) {
           ++count;
-          weight += work->w[k];
+          weight += work.w[k];
         }
       }
       if (weight > best_weight) {
         best_weight = weight;
-        support = count;
-        support_weight = weight;
-        guess = work->dir[i];
+        vote.support = count;
+        vote.support_weight = weight;
+        vote.guess = work.dir[i];
       }
     }
   }
-  diagnostics->axis_support = support_weight;
-  if (support < options.min_points) {
-    pass.type = SymmetryType::kAsymmetric;  // no second mode
-    return pass;
-  }
+  diagnostics->axis_support = vote.support_weight;
+  return vote;
+}
 
-  // Step 4: axis from B = sum w_j R_j over near rows and voters, then over
-  // the axis inliers.
+// Step 4: axis from B = sum w_j R_j over near rows and voters, then over
+// the axis inliers (work->axis_inlier holds the final inlier set).
+void FitAxisToInliers(const CategorizationOptions& options,
+                      bool use_prior_axis,
+                      int r,
+                      const Eigen::Vector3d& guess,
+                      Work* work,
+                      CategorizationDiagnostics* diagnostics,
+                      Eigen::Vector3d* axis_o_out,
+                      Eigen::Vector3d* axis_c_out) {
+  const int n = static_cast<int>(work->q.size());
+  const double cos_vote = std::cos(options.axis_vote_angle);
   std::vector<char>& in_set = work->axis_inlier;
   in_set.assign(n, 0);
   for (int j = 0; j < n; ++j) {
@@ -419,91 +433,111 @@ Pass RunPass(const std::vector<PoseHypothesis>& hypotheses,
     diagnostics->num_axis_inliers = count;
     if (count == 0) break;
   }
+  *axis_o_out = axis_o;
+  *axis_c_out = axis_c;
+}
 
-  // Step 5: signed twists relative to the reference with its swing aligned.
+// Step 5: signed twists relative to the reference with its swing aligned.
+// Fills work->psi (every hypothesis) and work->twist_in / twist_owner (the
+// axis inliers); returns q_ref.
+Eigen::Quaterniond ComputeTwists(int r,
+                                 const Eigen::Vector3d& axis_o,
+                                 const Eigen::Vector3d& axis_c,
+                                 Work* work) {
+  const int n = static_cast<int>(work->q.size());
   const Eigen::Quaterniond q_ref =
-      (MinimalRotation<double>(work->R[r] * axis_o, axis_c) * q_r).normalized();
+      (MinimalRotation<double>(work->R[r] * axis_o, axis_c) * work->q[r])
+          .normalized();
   const Eigen::Quaterniond q_ref_inv = q_ref.conjugate();
   work->psi.assign(n, 0.0);
   work->twist_in.clear();
   work->twist_owner.clear();
   for (int j = 0; j < n; ++j) {
     work->psi[j] = TwistAngle<double>(q_ref_inv * work->q[j], axis_o);
-    if (in_set[j]) {
+    if (work->axis_inlier[j]) {
       work->twist_in.push_back(work->psi[j]);
       work->twist_owner.push_back(j);
     }
   }
-  pass.axis_o = axis_o;
-  pass.axis_c = axis_c;
-  pass.q_ref = q_ref;
+  return q_ref;
+}
 
-  // Step 6: circular DBSCAN of the twists.
+// Step 6: circular DBSCAN of the twists into work->dbscan, then (6b) the
+// merge of close clusters.
+void ClusterTwists(const CategorizationOptions& options,
+                   Work* work,
+                   CategorizationDiagnostics* diagnostics) {
   CircularDbscanOptions dbscan_options;
   dbscan_options.eps = options.cluster_eps;
   dbscan_options.min_points = options.min_points;
   CircularDbscanResult& dbscan = work->dbscan;
-  if (!CircularDbscan(work->twist_in, dbscan_options, &dbscan).ok()) {
-    pass.type = SymmetryType::kAsymmetric;  // unreachable: inputs validated
-    return pass;
-  }
+  // Validate() keeps cluster_eps in (0, pi) and min_points >= 1, and twists
+  // are finite, so DBSCAN cannot refuse its input.
+  const Status status = CircularDbscan(work->twist_in, dbscan_options, &dbscan);
+  SYMBA_CHECK(status.ok()) << status.message();
   diagnostics->num_raw_clusters = static_cast<int>(dbscan.clusters.size());
   if (options.merge_close_clusters) MergeCloseClusters(options, &dbscan);
-  const int num_clusters = static_cast<int>(dbscan.clusters.size());
   diagnostics->num_noise = dbscan.num_noise;
+}
 
-  // Step 7: the reference must belong to a cluster.
+// Step 7: the DBSCAN label of the reference r (kNoiseLabel if it is noise or
+// not an axis inlier).
+int ReferenceLabel(const Work& work, int r) {
   int reference_label = CircularDbscanResult::kNoiseLabel;
-  for (int i = 0; i < static_cast<int>(work->twist_owner.size()); ++i) {
-    if (work->twist_owner[i] == r) reference_label = dbscan.labels[i];
+  for (int i = 0; i < static_cast<int>(work.twist_owner.size()); ++i) {
+    if (work.twist_owner[i] == r) reference_label = work.dbscan.labels[i];
   }
-  if (reference_label == CircularDbscanResult::kNoiseLabel) {
-    // Without any cluster, axis inliers too sparse for DBSCAN are spread
-    // around the axis: continuous. Otherwise the reference is an outlier.
-    pass.type = num_clusters == 0 && static_cast<int>(work->twist_in.size()) >=
-                                         options.min_points
-                    ? SymmetryType::kContinuous
-                    : SymmetryType::kAsymmetric;
-    if (!last_pass && num_clusters > 0) {
-      // The highest-weight member of the largest cluster (ties: the lower
-      // cluster index, then the lower hypothesis index).
-      int largest = 0;
-      for (int c = 1; c < num_clusters; ++c) {
-        if (dbscan.clusters[c].size > dbscan.clusters[largest].size) {
-          largest = c;
-        }
-      }
-      int next = -1;
-      for (int i = 0; i < static_cast<int>(work->twist_owner.size()); ++i) {
-        const int j = work->twist_owner[i];
-        if (dbscan.labels[i] == largest &&
-            (next < 0 || work->w[j] > work->w[next] ||
-             (work->w[j] == work->w[next] && j < next))) {
-          next = j;
-        }
-      }
-      pass.retry = true;
-      pass.next_reference = next;
-    }
-    return pass;
-  }
+  return reference_label;
+}
 
+// Step 7, the reference is noise: the reference for the retry is the
+// highest-weight member of the largest cluster (ties: the lower cluster
+// index, then the lower hypothesis index).
+int NextReference(const Work& work) {
+  const CircularDbscanResult& dbscan = work.dbscan;
+  const int num_clusters = static_cast<int>(dbscan.clusters.size());
+  int largest = 0;
+  for (int c = 1; c < num_clusters; ++c) {
+    if (dbscan.clusters[c].size > dbscan.clusters[largest].size) {
+      largest = c;
+    }
+  }
+  int next = -1;
+  for (int i = 0; i < static_cast<int>(work.twist_owner.size()); ++i) {
+    const int j = work.twist_owner[i];
+    if (dbscan.labels[i] == largest &&
+        (next < 0 || work.w[j] > work.w[next] ||
+         (work.w[j] == work.w[next] && j < next))) {
+      next = j;
+    }
+  }
+  return next;
+}
+
+// The shape of the clusters that step 7 decides on.
+struct ClusterShape {
   double max_extent = 0.0;
   bool all_compact = true;
-  for (const CircularCluster& c : dbscan.clusters) {
-    max_extent = std::max(max_extent, c.ring ? kTwoPi : c.extent);
-    all_compact =
-        all_compact && !c.ring && c.extent <= options.max_cluster_extent;
-  }
-  // Arcs between neighbouring clusters: for cluster c, from its end to the
-  // start of the next cluster counter-clockwise. Each must be at least
-  // min_cluster_separation and separation_ratio times the mean extent of the
-  // two clusters it separates.
   double min_separation = 0.0;
   bool separated = false;
-  if (num_clusters >= 2 && all_compact) {
-    min_separation = kTwoPi;
-    separated = true;
+};
+
+// Step 7: extents, and the arcs between neighbouring clusters: for cluster
+// c, from its end to the start of the next cluster counter-clockwise. Each
+// must be at least min_cluster_separation and separation_ratio times the
+// mean extent of the two clusters it separates.
+ClusterShape MeasureClusters(const CategorizationOptions& options,
+                             const CircularDbscanResult& dbscan) {
+  const int num_clusters = static_cast<int>(dbscan.clusters.size());
+  ClusterShape shape;
+  for (const CircularCluster& c : dbscan.clusters) {
+    shape.max_extent = std::max(shape.max_extent, c.ring ? kTwoPi : c.extent);
+    shape.all_compact =
+        shape.all_compact && !c.ring && c.extent <= options.max_cluster_extent;
+  }
+  if (num_clusters >= 2 && shape.all_compact) {
+    shape.min_separation = kTwoPi;
+    shape.separated = true;
     for (int c = 0; c < num_clusters; ++c) {
       const CircularCluster& cluster = dbscan.clusters[c];
       const double end = cluster.start + cluster.extent;
@@ -517,38 +551,100 @@ Pass RunPass(const std::vector<PoseHypothesis>& hypotheses,
           next = d;
         }
       }
-      min_separation = std::min(min_separation, gap);
+      shape.min_separation = std::min(shape.min_separation, gap);
       const double mean_extent =
           0.5 * (cluster.extent + dbscan.clusters[next].extent);
-      separated = separated && gap >= options.min_cluster_separation &&
-                  gap >= options.separation_ratio * mean_extent;
+      shape.separated = shape.separated &&
+                        gap >= options.min_cluster_separation &&
+                        gap >= options.separation_ratio * mean_extent;
     }
   }
-  diagnostics->max_cluster_extent = max_extent;
-  diagnostics->min_cluster_separation = min_separation;
+  return shape;
+}
 
-  // Empty fraction: the share of the circle in gaps wider than
-  // empty_gap_angle between consecutive axis-inlier twists.
-  const int num_in = static_cast<int>(work->twist_in.size());
+// Step 7: empty fraction, the share of the circle in gaps wider than
+// empty_gap_angle between consecutive axis-inlier twists.
+double EmptyFraction(const CategorizationOptions& options, const Work& work) {
+  const int num_in = static_cast<int>(work.twist_in.size());
   double empty = 0.0;
   for (int k = 0; k < num_in; ++k) {
-    const double from = work->twist_in[dbscan.order[k]];
-    const double to = work->twist_in[dbscan.order[(k + 1) % num_in]];
+    const double from = work.twist_in[work.dbscan.order[k]];
+    const double to = work.twist_in[work.dbscan.order[(k + 1) % num_in]];
     const double gap = num_in == 1 ? kTwoPi : ForwardArc(from, to);
     if (gap > options.empty_gap_angle) empty += gap;
   }
-  empty /= kTwoPi;
+  return empty / kTwoPi;
+}
+
+// Steps 2-7 with reference r.
+Pass RunPass(const CategorizationOptions& options,
+             const ClassPrior* prior,
+             int r,
+             bool last_pass,
+             Work* work,
+             CategorizationDiagnostics* diagnostics) {
+  Pass pass;
+  RelativeRotations(options, r, work);
+
+  const bool use_prior_axis = prior != nullptr &&
+                              prior->symmetry != SymmetryType::kAsymmetric &&
+                              prior->axis_o.norm() > 0.0;
+  const AxisVote vote =
+      VoteAxis(options, prior, use_prior_axis, *work, diagnostics);
+  if (vote.support < options.min_points) {
+    pass.type = SymmetryType::kAsymmetric;  // no second mode
+    return pass;
+  }
+
+  Eigen::Vector3d axis_o, axis_c;
+  FitAxisToInliers(options,
+                   use_prior_axis,
+                   r,
+                   vote.guess,
+                   work,
+                   diagnostics,
+                   &axis_o,
+                   &axis_c);
+  pass.axis_o = axis_o;
+  pass.axis_c = axis_c;
+  pass.q_ref = ComputeTwists(r, axis_o, axis_c, work);
+
+  ClusterTwists(options, work, diagnostics);
+  const CircularDbscanResult& dbscan = work->dbscan;
+  const int num_clusters = static_cast<int>(dbscan.clusters.size());
+
+  if (ReferenceLabel(*work, r) == CircularDbscanResult::kNoiseLabel) {
+    // Without any cluster, axis inliers too sparse for DBSCAN are spread
+    // around the axis: continuous. Otherwise the reference is an outlier.
+    pass.type = num_clusters == 0 && static_cast<int>(work->twist_in.size()) >=
+                                         options.min_points
+                    ? SymmetryType::kContinuous
+                    : SymmetryType::kAsymmetric;
+    if (!last_pass && num_clusters > 0) {
+      pass.retry = true;
+      pass.next_reference = NextReference(*work);
+    }
+    return pass;
+  }
+
+  const ClusterShape shape = MeasureClusters(options, dbscan);
+  diagnostics->max_cluster_extent = shape.max_extent;
+  diagnostics->min_cluster_separation = shape.min_separation;
+  const double empty = EmptyFraction(options, *work);
   diagnostics->empty_fraction = empty;
+  const int num_in = static_cast<int>(work->twist_in.size());
   const bool few_noise =
       dbscan.num_noise <= options.max_noise_fraction * num_in;
-  if (num_clusters == 1 && all_compact && few_noise) {
+  if (num_clusters == 1 && shape.all_compact && few_noise) {
     pass.type = SymmetryType::kAsymmetric;
-  } else if (num_clusters >= 2 && all_compact && few_noise && separated &&
-             empty >= options.min_empty_fraction) {
+  } else if (num_clusters >= 2 && shape.all_compact && few_noise &&
+             shape.separated && empty >= options.min_empty_fraction) {
     pass.type = SymmetryType::kDiscrete;
     if (options.rescue_min_points > 0 && dbscan.num_noise > 0) {
       RescueSmallModes(options, work);
-      if (options.merge_close_clusters) MergeCloseClusters(options, &dbscan);
+      if (options.merge_close_clusters) {
+        MergeCloseClusters(options, &work->dbscan);
+      }
     }
   } else {
     pass.type = SymmetryType::kContinuous;
@@ -838,8 +934,7 @@ Status Categorize(const std::vector<PoseHypothesis>& hypotheses,
   for (int attempt = 0; attempt < 2; ++attempt) {
     out->diagnostics = CategorizationDiagnostics();
     out->diagnostics.passes = attempt + 1;
-    pass = RunPass(
-        hypotheses, options, prior, r, attempt == 1, &work, &out->diagnostics);
+    pass = RunPass(options, prior, r, attempt == 1, &work, &out->diagnostics);
     if (!pass.retry) break;
     r = pass.next_reference;
   }

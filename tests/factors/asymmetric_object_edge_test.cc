@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "factors/factor_test_util.h"
+#include "symba/geometry/angle.h"
 #include "symba/geometry/se3.h"
 #include "test_support/random.h"
 
@@ -17,8 +18,6 @@ namespace symba {
 namespace {
 
 using testing::PoseBlocks;
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::unique_ptr<AsymmetricObjectEdge> MakeEdge(
     std::vector<PoseComponent> components,

@@ -28,6 +28,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "factors/factor_test_util.h"
 #include "symba/factors/pose_component.h"
 #include "symba/geometry/angle.h"
 #include "symba/geometry/rigid3.h"
@@ -48,23 +49,10 @@ constexpr double kZeroResidualTolerance = 1e-12;
 constexpr int kGradientStatesPerRegime = 70;  // x 3 regimes = 210 states
 constexpr int kReprojectionGradientStates = 210;
 
-// A pose as the two Ceres parameter blocks of the factors: q in Eigen memory
-// order [x, y, z, w] and t.
-struct PoseBlocks {
-  double q[4];
-  double t[3];
-
-  explicit PoseBlocks(const Rigid3d& T) {
-    Eigen::Map<Eigen::Quaterniond> q_map(q);
-    Eigen::Map<Eigen::Vector3d> t_map(t);
-    q_map = T.q;
-    t_map = T.t;
-  }
-  Rigid3d ToRigid() const {
-    return Rigid3d(Eigen::Map<const Eigen::Quaterniond>(q),
-                   Eigen::Map<const Eigen::Vector3d>(t));
-  }
-};
+using testing::PoseBlocks;
+// The blocks hold each pose's quaternion bit for bit.
+constexpr testing::QuaternionStorage kAsGiven =
+    testing::QuaternionStorage::kAsGiven;
 
 Eigen::Quaterniond AngleAxis(double angle, const Eigen::Vector3d& axis) {
   return Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
@@ -227,8 +215,8 @@ TEST(RelativePoseFactor, ZeroResidualWhenEstimateReproducesMeasurement) {
     const Rigid3d T_ab = T_wa.Inverse() * T_wb;
     std::unique_ptr<ceres::CostFunction> cost(
         RelativePoseFactor::Create(T_ab, RandomSqrtInfo<6>(random, 10.0)));
-    const PoseBlocks a(T_wa);
-    const PoseBlocks b(T_wb);
+    const PoseBlocks a(T_wa, kAsGiven);
+    const PoseBlocks b(T_wb, kAsGiven);
     Eigen::VectorXd r;
     ASSERT_TRUE(EvaluateResidual(*cost, {a.q, a.t, b.q, b.t}, &r));
     EXPECT_LT(r.cwiseAbs().maxCoeff(), kZeroResidualTolerance)
@@ -251,8 +239,8 @@ TEST(RelativePoseFactor, PureTranslationOffsetInFrameB) {
   // [rho; omega] = [0.1, 0, 0; 0, 0, 0]; sqrt_info = 1 / 0.01.
   std::unique_ptr<ceres::CostFunction> cost(RelativePoseFactor::Create(
       T_ab_measured, IsotropicPoseSqrtInfo(0.01, 0.01)));
-  const PoseBlocks a(T_wa);
-  const PoseBlocks b(T_wb);
+  const PoseBlocks a(T_wa, kAsGiven);
+  const PoseBlocks b(T_wb, kAsGiven);
   Eigen::VectorXd r;
   ASSERT_TRUE(EvaluateResidual(*cost, {a.q, a.t, b.q, b.t}, &r));
   Eigen::VectorXd expected(6);
@@ -277,8 +265,8 @@ TEST(RelativePoseFactor, JacobiansMatchNumericDifferentiation) {
       const Rigid3d T_wb = T_wa * T_ab_true * error;
       std::unique_ptr<ceres::CostFunction> cost(RelativePoseFactor::Create(
           T_ab_true, RandomSqrtInfo<6>(random, 5.0)));
-      const PoseBlocks a(T_wa);
-      const PoseBlocks b(T_wb);
+      const PoseBlocks a(T_wa, kAsGiven);
+      const PoseBlocks b(T_wb, kAsGiven);
       std::ostringstream state;
       state << RegimeName(regime) << " state " << i;
       recorder.Probe(*cost, manifolds, {a.q, a.t, b.q, b.t}, state.str());
@@ -296,7 +284,7 @@ TEST(PosePriorFactor, ZeroResidualAtThePrior) {
     const Rigid3d T_prior = RandomPose(random, 3.0);
     std::unique_ptr<ceres::CostFunction> cost(
         PosePriorFactor::Create(T_prior, RandomSqrtInfo<6>(random, 10.0)));
-    const PoseBlocks c(T_prior);
+    const PoseBlocks c(T_prior, kAsGiven);
     Eigen::VectorXd r;
     ASSERT_TRUE(EvaluateResidual(*cost, {c.q, c.t}, &r));
     EXPECT_LT(r.cwiseAbs().maxCoeff(), kZeroResidualTolerance)
@@ -327,7 +315,7 @@ TEST(PosePriorFactor, RotationAboutWorldZAxis) {
   // residual is (0, 4, 0, 0, 0, 2).
   std::unique_ptr<ceres::CostFunction> cost(
       PosePriorFactor::Create(T_prior, IsotropicPoseSqrtInfo(0.05, 0.1)));
-  const PoseBlocks c(T_wc);
+  const PoseBlocks c(T_wc, kAsGiven);
   Eigen::VectorXd r;
   ASSERT_TRUE(EvaluateResidual(*cost, {c.q, c.t}, &r));
   Eigen::VectorXd expected(6);
@@ -349,7 +337,7 @@ TEST(PosePriorFactor, JacobiansMatchNumericDifferentiation) {
       const Rigid3d T_wc = T_prior * RandomError(random, regime);
       std::unique_ptr<ceres::CostFunction> cost(
           PosePriorFactor::Create(T_prior, RandomSqrtInfo<6>(random, 5.0)));
-      const PoseBlocks c(T_wc);
+      const PoseBlocks c(T_wc, kAsGiven);
       std::ostringstream state;
       state << RegimeName(regime) << " state " << i;
       recorder.Probe(*cost, manifolds, {c.q, c.t}, state.str());
@@ -373,7 +361,7 @@ TEST(ReprojectionFactor, ZeroResidualAtTheProjection) {
     const Eigen::Vector3d p_w = T_wc * p_c;
     std::unique_ptr<ceres::CostFunction> cost(ReprojectionFactor::Create(
         K, Project(K, T_wc, p_w), Eigen::Matrix2d::Identity()));
-    const PoseBlocks c(T_wc);
+    const PoseBlocks c(T_wc, kAsGiven);
     Eigen::VectorXd r;
     ASSERT_TRUE(EvaluateResidual(*cost, {c.q, c.t, p_w.data()}, &r));
     EXPECT_LT(r.cwiseAbs().maxCoeff(), kZeroResidualTolerance)
@@ -386,7 +374,7 @@ TEST(ReprojectionFactor, HandComputedPixel) {
   // v = 500 * (-0.1) / 2 + 240 = 215. Residual = uv - uv_measured.
   const PinholeIntrinsics K = TestIntrinsics();
   const Eigen::Vector3d p_w(0.2, -0.1, 2.0);
-  const PoseBlocks identity(Rigid3d::Identity());
+  const PoseBlocks identity(Rigid3d::Identity(), kAsGiven);
   {
     std::unique_ptr<ceres::CostFunction> cost(ReprojectionFactor::Create(
         K, Eigen::Vector2d(371.0, 214.0), Eigen::Matrix2d::Identity()));
@@ -416,7 +404,8 @@ TEST(ReprojectionFactor, HandComputedPixel) {
     // is p_w = (1, 2, 3) + 2 x_w - 0.1 y_w - 0.2 z_w = (3, 1.9, 2.8).
     const PoseBlocks turned(
         Rigid3d(AngleAxis(kPi / 2.0, Eigen::Vector3d::UnitY()),
-                Eigen::Vector3d(1.0, 2.0, 3.0)));
+                Eigen::Vector3d(1.0, 2.0, 3.0)),
+        kAsGiven);
     const Eigen::Vector3d p_w_turned(3.0, 1.9, 2.8);
     std::unique_ptr<ceres::CostFunction> cost(ReprojectionFactor::Create(
         K, Eigen::Vector2d(371.0, 214.0), Eigen::Matrix2d::Identity()));
@@ -432,7 +421,7 @@ TEST(ReprojectionFactor, FailsForPointsAtOrBehindTheCamera) {
   const PinholeIntrinsics K = TestIntrinsics();
   std::unique_ptr<ceres::CostFunction> cost(ReprojectionFactor::Create(
       K, Eigen::Vector2d(320.0, 240.0), Eigen::Matrix2d::Identity()));
-  const PoseBlocks identity(Rigid3d::Identity());
+  const PoseBlocks identity(Rigid3d::Identity(), kAsGiven);
   Eigen::VectorXd r;
   for (const Eigen::Vector3d& p_w : {Eigen::Vector3d(0.2, -0.1, -2.0),
                                      Eigen::Vector3d(0.0, 0.0, -1e-3),
@@ -447,7 +436,8 @@ TEST(ReprojectionFactor, FailsForPointsAtOrBehindTheCamera) {
   // A camera looking down the world -z axis (turned pi about y) has the
   // point (0, 0, 5) behind it and (0, 0, -5) in front.
   const PoseBlocks flipped(Rigid3d(AngleAxis(kPi, Eigen::Vector3d::UnitY()),
-                                   Eigen::Vector3d::Zero()));
+                                   Eigen::Vector3d::Zero()),
+                           kAsGiven);
   const Eigen::Vector3d behind(0.0, 0.0, 5.0);
   const Eigen::Vector3d in_front(0.0, 0.0, -5.0);
   EXPECT_FALSE(
@@ -483,7 +473,7 @@ TEST(ReprojectionFactor, JacobiansMatchNumericDifferentiation) {
         Eigen::Vector2d(random.Normal(3.0), random.Normal(3.0));
     std::unique_ptr<ceres::CostFunction> cost(ReprojectionFactor::Create(
         K, uv_measured, RandomSqrtInfo<2>(random, 1.0)));
-    const PoseBlocks c(T_wc);
+    const PoseBlocks c(T_wc, kAsGiven);
     std::ostringstream state;
     state << "state " << i << " (depth " << depth << ")";
     recorder.Probe(*cost, manifolds, {c.q, c.t, p_w.data()}, state.str());
@@ -520,7 +510,7 @@ TEST(CameraFactorSolve, PoseChainWithPriorConvergesToTruth) {
     // Start 0.1-0.3 rad and ~0.2 m off.
     const Rigid3d perturbation(random.RotationOfAngle(random.Uniform(0.1, 0.3)),
                                random.NormalVector(0.2));
-    poses.emplace_back(T * perturbation);
+    poses.emplace_back(T * perturbation, kAsGiven);
   }
 
   ceres::Problem problem;
@@ -579,7 +569,7 @@ TEST(CameraFactorSolve, BundleAdjustmentWithFixedCamerasRecoversPoints) {
   }
 
   std::vector<PoseBlocks> camera_blocks;
-  for (const Rigid3d& T : cameras) camera_blocks.emplace_back(T);
+  for (const Rigid3d& T : cameras) camera_blocks.emplace_back(T, kAsGiven);
   ceres::Problem problem;
   for (PoseBlocks& camera : camera_blocks) {
     problem.AddParameterBlock(camera.q, 4, new ceres::EigenQuaternionManifold);

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "factors/factor_test_util.h"
+#include "symba/geometry/angle.h"
 #include "symba/geometry/so3.h"
 #include "symba/geometry/swing_twist.h"
 #include "symba/manifolds/axis_manifold.h"
@@ -19,8 +20,6 @@ namespace symba {
 namespace {
 
 using testing::PoseBlocks;
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::unique_ptr<DiscreteObjectEdge> MakeEdge(
     std::vector<PoseComponent> components, const SymmetryAnchor& anchor) {

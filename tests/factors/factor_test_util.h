@@ -18,15 +18,23 @@
 
 namespace symba::testing {
 
-// A pose as two Ceres parameter blocks: q [x, y, z, w] and t.
+// How PoseBlocks stores the quaternion: normalised, or bit for bit as given
+// (for tests that compare the blocks with the pose exactly or hand a factor
+// a quaternion of their choosing).
+enum class QuaternionStorage { kNormalised, kAsGiven };
+
+// A pose as two Ceres parameter blocks: q in Eigen memory order
+// [x, y, z, w] and t.
 struct PoseBlocks {
   double q[4];
   double t[3];
 
-  explicit PoseBlocks(const Rigid3d& T) {
+  explicit PoseBlocks(
+      const Rigid3d& T,
+      QuaternionStorage storage = QuaternionStorage::kNormalised) {
     Eigen::Map<Eigen::Quaterniond> q_map(q);
     Eigen::Map<Eigen::Vector3d> t_map(t);
-    q_map = T.q.normalized();
+    q_map = storage == QuaternionStorage::kNormalised ? T.q.normalized() : T.q;
     t_map = T.t;
   }
   Rigid3d ToRigid() const {

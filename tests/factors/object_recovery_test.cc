@@ -21,6 +21,7 @@
 #include "symba/factors/asymmetric_object_edge.h"
 #include "symba/factors/continuous_object_edge.h"
 #include "symba/factors/discrete_object_edge.h"
+#include "symba/geometry/angle.h"
 #include "symba/geometry/so3.h"
 #include "symba/manifolds/axis_manifold.h"
 #include "test_support/random.h"
@@ -28,7 +29,6 @@
 namespace symba {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kSigmaT = 0.01;
 constexpr double kSigmaR = 1.0 * kDeg;

@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "factors/factor_test_util.h"
 #include "symba/factors/pose_graph_edge.h"
 #include "symba/geometry/angle.h"
 #include "symba/geometry/rigid3.h"
@@ -57,16 +58,10 @@ constexpr double kParkingGarageMeasured = 0.6341926;
 // ---------------------------------------------------------------------------
 // Helpers.
 
-struct PoseBlocks {
-  double q[4];
-  double t[3];
-  explicit PoseBlocks(const Rigid3d& T) {
-    Eigen::Map<Eigen::Quaterniond> q_map(q);
-    Eigen::Map<Eigen::Vector3d> t_map(t);
-    q_map = T.q;
-    t_map = T.t;
-  }
-};
+using testing::PoseBlocks;
+// The blocks hold each pose's quaternion bit for bit.
+constexpr testing::QuaternionStorage kAsGiven =
+    testing::QuaternionStorage::kAsGiven;
 
 Rigid3d RandomPose(testing::TestRandom& random, double translation_sigma) {
   return Rigid3d(random.Rotation(), random.NormalVector(translation_sigma));
@@ -104,8 +99,8 @@ Eigen::Matrix<double, 6, 1> ReferenceError(const Rigid3d& T_wa,
 double FactorCost(const ceres::CostFunction& cost,
                   const Rigid3d& T_wa,
                   const Rigid3d& T_wb) {
-  const PoseBlocks a(T_wa);
-  const PoseBlocks b(T_wb);
+  const PoseBlocks a(T_wa, kAsGiven);
+  const PoseBlocks b(T_wb, kAsGiven);
   const double* parameters[] = {a.q, a.t, b.q, b.t};
   Eigen::Matrix<double, 6, 1> r;
   EXPECT_TRUE(cost.Evaluate(parameters, r.data(), nullptr));
@@ -179,8 +174,8 @@ TEST(PoseGraphEdgeFactor, JacobiansMatchNumericDifferencesAt200States) {
       const std::unique_ptr<ceres::CostFunction> cost(
           PoseGraphEdgeFactor::Create(T_ab, sqrt_info, rotation_error));
 
-      const PoseBlocks a(T_wa);
-      const PoseBlocks b(T_wb);
+      const PoseBlocks a(T_wa, kAsGiven);
+      const PoseBlocks b(T_wb, kAsGiven);
       const double* parameters[] = {a.q, a.t, b.q, b.t};
       const ceres::GradientChecker checker(cost.get(), &manifolds, numeric);
       ceres::GradientChecker::ProbeResults results;
@@ -209,8 +204,8 @@ TEST(PoseGraphEdgeFactor, ZeroAtTheMeasuredRelativePose) {
     ASSERT_TRUE(UpperCholeskyFactor(RandomInformation(random), &sqrt_info));
     const std::unique_ptr<ceres::CostFunction> cost(
         PoseGraphEdgeFactor::Create(T_ab, sqrt_info));
-    const PoseBlocks a(T_wa);
-    const PoseBlocks b(T_wb);
+    const PoseBlocks a(T_wa, kAsGiven);
+    const PoseBlocks b(T_wb, kAsGiven);
     const double* parameters[] = {a.q, a.t, b.q, b.t};
     Eigen::Matrix<double, 6, 1> r;
     ASSERT_TRUE(cost->Evaluate(parameters, r.data(), nullptr));
@@ -740,9 +735,9 @@ TEST(ParkingGarage, ConvergesToTheCostDerivedFromTheSeSyncOptimum) {
   const std::string path = DataFile("parking-garage.g2o");
   ASSERT_TRUE(std::filesystem::exists(path))
       << path
-      << " is missing. The pose-graph datasets are expected in "
-         "../shared/data/posegraph beside the source tree (see SOURCES.md "
-         "there); this test does not skip without them.";
+      << " is missing. The pose-graph datasets are in the repository's "
+         "data/posegraph (see SOURCES.md there); this test does not skip "
+         "without them.";
 
   // 1. SE-Sync's isotropic weights: our cost is exactly half SE-Sync's
   //    objective at every state, so its optimum is half the published one.

@@ -3,7 +3,8 @@
 // symba's library code never prints and never exits; a function that can fail
 // on user data (files, options, detections) returns a Status whose message
 // says what is wrong, and the command-line tools print it. Programmer errors
-// (violated preconditions inside the library) are CHECKed instead.
+// (violated preconditions inside the library) are checked with SYMBA_CHECK
+// (symba/common/check.h), which prints the failed condition and aborts.
 #ifndef SYMBA_COMMON_STATUS_H_
 #define SYMBA_COMMON_STATUS_H_
 

@@ -102,7 +102,6 @@ class AsymmetricPoseModel {
   int NumComponents() const { return mixture_.size(); }
   double Weight(int j) const { return mixture_.component(j).weight; }
   double LogDetSqrtInfo(int j) const { return mixture_.LogDetSqrtInfo(j); }
-  const PoseMixture& mixture() const { return mixture_; }
 
   bool Prepare(double const* const* parameters, Rigid3d* T_oc) const {
     *T_oc = CameraInObject(

@@ -196,7 +196,6 @@ class DiscretePoseModel {
   int NumComponents() const { return mixture_.size(); }
   double Weight(int j) const { return mixture_.component(j).weight; }
   double LogDetSqrtInfo(int j) const { return mixture_.LogDetSqrtInfo(j); }
-  const SymmetryAnchor& anchor() const { return anchor_; }
 
   bool Prepare(double const* const* parameters, Rigid3d* T_oc) const {
     *T_oc = CameraInSymmetricObject(anchor_,

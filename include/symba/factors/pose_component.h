@@ -2,8 +2,7 @@
 // square-root information L_j (6 x 6, acting on the SE(3) log error
 // [rho; omega], metres and radians) and its weight w_j > 0.
 //
-// PoseComponentsFromHypotheses builds components from detector hypotheses
-// with isotropic noise: L = diag(1/sigma_t x3, 1/sigma_r x3).
+// IsotropicPoseSqrtInfo builds L = diag(1/sigma_t x3, 1/sigma_r x3).
 // ValidatePoseComponents rejects what must never reach a Ceres problem:
 // non-finite numbers, a non-positive weight, a singular L, a quaternion that
 // is not unit within 1e-6 (after which it is normalised by the edges).
@@ -18,7 +17,6 @@
 #include <Eigen/LU>
 
 #include "symba/common/status.h"
-#include "symba/detection/pose_hypothesis.h"
 #include "symba/geometry/rigid3.h"
 
 namespace symba {
@@ -36,19 +34,6 @@ inline Matrix6d IsotropicPoseSqrtInfo(double sigma_t, double sigma_r) {
   sqrt_info.diagonal() << Eigen::Vector3d::Constant(1.0 / sigma_t),
       Eigen::Vector3d::Constant(1.0 / sigma_r);
   return sqrt_info;
-}
-
-inline std::vector<PoseComponent> PoseComponentsFromHypotheses(
-    const std::vector<PoseHypothesis>& hypotheses,
-    double sigma_t,
-    double sigma_r) {
-  std::vector<PoseComponent> components;
-  components.reserve(hypotheses.size());
-  const Matrix6d sqrt_info = IsotropicPoseSqrtInfo(sigma_t, sigma_r);
-  for (const PoseHypothesis& h : hypotheses) {
-    components.push_back({h.T_co, sqrt_info, h.weight});
-  }
-  return components;
 }
 
 // Checks a square-root information matrix and a weight of one component.

@@ -7,8 +7,8 @@
 // f^-1 is singular at the poles (a = +-z: psi is undefined and returned as
 // 0). On the half-plane x < 0, y = -0 atan2 gives -pi; that is returned as
 // +pi, so psi stays in (-pi, pi]. symba optimises axes on the
-// singularity-free AxisManifold instead; these angles serve reporting and a
-// paper-faithful mode.
+// singularity-free AxisManifold instead; these functions state the paper's
+// parameterisation and are exercised only by their tests.
 #ifndef SYMBA_GEOMETRY_SPHERICAL_ANGLES_H_
 #define SYMBA_GEOMETRY_SPHERICAL_ANGLES_H_
 

@@ -11,9 +11,10 @@
 // them together). The twist is undefined when w = v.a = 0 (a half-turn about
 // an axis perpendicular to a); there the twist is the identity, angle 0.
 //
-//   MinimalRotation(u, v) = the rotation of least angle taking unit u to unit
-//   v: axis u x v / |u x v|, angle acos(u.v); as a quaternion
-//   [1 + u.v, u x v] / |.|, evaluated as [|u + v|^2 / 2, u x (u + v)] / |.|
+//   MinimalRotation(u, v) = the rotation of least angle taking unit u to
+//                           unit v: axis u x v / |u x v|, angle acos(u.v)
+//                         = [1 + u.v, u x v] / |.|              (quaternion)
+//   evaluated as [|u + v|^2 / 2, u x (u + v)] / |.|
 //   (equal for unit u, v; free of cancellation as v -> -u, where u + v is
 //   computed exactly, so q * u = v to rounding even 1e-13 rad from
 //   antiparallel). Only for u + v = 0 (|u + v|^2 < 2e-100) is it a half-turn

@@ -3,8 +3,8 @@
 // Eq. 9-10).
 //
 //   Plus(x, d)  = cos(|d|) x + sin(|d|) / |d| * B(x) d     (then normalised)
-//   Minus(y, x) = theta / |B(x)^T y| * B(x)^T y,  theta = atan2(|B(x)^T y|,
-//   x.y)
+//   Minus(y, x) = theta / |B(x)^T y| * B(x)^T y,
+//                 theta = atan2(|B(x)^T y|, x.y)
 //
 // B(x) is TangentBasis(x) (symba/geometry/tangent_basis.h), an orthonormal
 // basis of the tangent plane at x that is defined and well conditioned at
@@ -14,8 +14,9 @@
 //
 // Invariants (checked by tests with ceres/manifold_test_utils.h):
 //   Plus(x, 0) = x,  Minus(x, x) = 0,
-//   Minus(Plus(x, d), x) = d for |d| < pi,  Plus(x, Minus(y, x)) = y for y !=
-//   -x. PlusJacobian(x) = B(x) (3 x 2), MinusJacobian(x) = B(x)^T (2 x 3), both
+//   Minus(Plus(x, d), x) = d    for |d| < pi,
+//   Plus(x, Minus(y, x)) = y    for y != -x.
+//   PlusJacobian(x) = B(x) (3 x 2), MinusJacobian(x) = B(x)^T (2 x 3), both
 //   row-major as Ceres expects.
 //
 // Why not ceres::SphereManifold<3>: its Plus moves the point by |d|/2 rather

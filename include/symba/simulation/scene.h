@@ -139,16 +139,17 @@ struct SimulationOptions {
   // detection is missed (miss_probability). A detection has num_hypotheses
   // hypotheses T_co:
   //   inlier j   T_cw T_wo (Rot(a_o, phi_j), 0) (Exp(r_j), s_j),
-  //              r_j ~ N(0, rotation_sigma^2 I), s_j ~ N(0, translation_sigma^2
-  //              I)
+  //              r_j ~ N(0, rotation_sigma^2 I),
+  //              s_j ~ N(0, translation_sigma^2 I)
   //     discrete    phi_j = 2 pi m / k for the view's visible modes m in
   //                 turn: with subset_view_probability the view shows a
   //                 random proper subset of 1 .. k-1 modes, else all k
   //     continuous  phi_0 ~ U(-s/2, s/2) (s = continuous_dominant_spread),
   //                 phi_j = phi_0 + U(-arc/2, arc/2) (arc = continuous_arc)
   //     asymmetric  phi_j = 0
-  //   outlier j  rotation uniform on SO(3), translation + N(0,
-  //              outlier_translation_sigma^2 I); round(outlier_fraction N)
+  //   outlier j  rotation uniform on SO(3),
+  //              translation + N(0, outlier_translation_sigma^2 I);
+  //              round(outlier_fraction N) of them
   // Weights: the inliers of the view's dominant mode (a random visible
   // mode, kept from the previous view with dominant_mode_persistence;
   // continuous: hypothesis 0) get dominant_weight, all others other_weight,

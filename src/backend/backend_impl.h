@@ -1,6 +1,7 @@
 // Backend::Impl: the backend's state and the steps of AddKeyframe and the
 // solves. Its member functions are defined by topic:
-//   backend.cc      AddKeyframe, detections per method, solves, read-back
+//   backend.cc      AddKeyframe, the solves, read-back
+//   detections.cc   a keyframe's detections, per method
 //   keyframe_factors.cc  a keyframe's initial pose, camera motion factor
 //                   and point observations
 //   map_objects.cc  the object lifecycle: creation, upgrades, observations,
@@ -56,7 +57,7 @@ class Backend::Impl {
   void AddCameraFactors(int k, const KeyframeInput& input);
   void AddPointObservations(int k, const KeyframeInput& input);
 
-  // Detections, per method (backend.cc). CategorizeDetections runs before
+  // Detections, per method (detections.cc). CategorizeDetections runs before
   // anything of the keyframe is added, so a failing detection adds nothing.
   const ClassPrior* PriorOf(const std::string& class_name) const;
   Status CategorizeDetections(const KeyframeInput& input);

@@ -49,6 +49,12 @@ std::vector<std::pair<std::vector<int>, Rigid3d>> Modes(
 
 }  // namespace
 
+std::string DetectionId(const KeyframeInput& input, size_t d) {
+  const DetectionInput& det = input.detections[d];
+  return det.id.empty() ? std::to_string(input.id) + "/" + std::to_string(d)
+                        : det.id;
+}
+
 int HighestWeight(const std::vector<PoseHypothesis>& hyps,
                   const std::vector<int>& indices) {
   int best = indices.front();

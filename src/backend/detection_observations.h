@@ -6,6 +6,7 @@
 #ifndef SYMBA_SRC_BACKEND_DETECTION_OBSERVATIONS_H_
 #define SYMBA_SRC_BACKEND_DETECTION_OBSERVATIONS_H_
 
+#include <string>
 #include <vector>
 
 #include "backend/backend_state.h"
@@ -14,6 +15,10 @@
 #include "symba/categorization/categorize.h"
 
 namespace symba::internal {
+
+// A detection's id: its own, else "<keyframe id>/<index>" (the log
+// format's default).
+std::string DetectionId(const KeyframeInput& input, size_t d);
 
 // The index of the highest-weight hypothesis among `indices` (ties: the
 // first).

@@ -11,6 +11,7 @@
 
 #include "backend/backend_impl.h"
 #include "backend/upgrade_evidence.h"
+#include "symba/common/check.h"
 #include "symba/factors/asymmetric_object_edge.h"
 #include "symba/factors/continuous_object_edge.h"
 #include "symba/factors/discrete_object_edge.h"
@@ -354,7 +355,8 @@ std::unique_ptr<ceres::CostFunction> Backend::Impl::BuildObjectEdge(
     Status status =
         CreateAsymmetricObjectEdge(components, options_.mixture, &edge);
     *blocks = {kf->q, kf->t, object->q, object->t};
-    return status.ok() ? std::move(edge) : nullptr;
+    SYMBA_CHECK(status.ok()) << status.message();  // inputs were validated
+    return edge;
   }
   if (object->type == SymmetryType::kDiscrete && observation.angle >= 0) {
     std::unique_ptr<DiscreteObjectEdge> edge;
@@ -365,7 +367,8 @@ std::unique_ptr<ceres::CostFunction> Backend::Impl::BuildObjectEdge(
                object->t,
                object->a_w,
                object->thetas[observation.angle].get()};
-    return status.ok() ? std::move(edge) : nullptr;
+    SYMBA_CHECK(status.ok()) << status.message();  // inputs were validated
+    return edge;
   }
   std::vector<TranslationComponent> translations;
   for (const PoseComponent& c : components) {
@@ -385,7 +388,8 @@ std::unique_ptr<ceres::CostFunction> Backend::Impl::BuildObjectEdge(
   Status status =
       CreateContinuousObjectEdge(translations, axis, options_.mixture, &edge);
   *blocks = {kf->q, kf->t, object->t, object->a_w};
-  return status.ok() ? std::move(edge) : nullptr;
+  SYMBA_CHECK(status.ok()) << status.message();  // inputs were validated
+  return edge;
 }
 
 }  // namespace symba

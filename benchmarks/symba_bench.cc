@@ -30,8 +30,9 @@
 
 #include "symba/backend/backend_options.h"
 #include "symba/evaluation/evaluate.h"
-#include "symba/io/replay_output.h"
+#include "symba/io/file_output.h"
 #include "symba/replay/replay.h"
+#include "symba/replay/replay_output.h"
 #include "symba/simulation/scene.h"
 #include "symba/simulation/simulator.h"
 #include "top_down_svg.h"

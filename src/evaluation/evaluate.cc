@@ -19,7 +19,7 @@
 
 #include "io/text_file.h"
 #include "symba/geometry/angle.h"
-#include "symba/io/replay_output.h"
+#include "symba/io/format_double.h"
 #include "symba/io/tum_trajectory.h"
 
 namespace symba {

@@ -18,7 +18,9 @@
 #include "symba/backend/estimates.h"
 #include "symba/geometry/angle.h"
 #include "symba/geometry/so3.h"
-#include "symba/io/replay_output.h"
+#include "symba/io/file_output.h"
+#include "symba/io/format_double.h"
+#include "symba/io/tum_trajectory.h"
 
 namespace symba {
 namespace {

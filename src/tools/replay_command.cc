@@ -10,6 +10,8 @@
 
 #include "symba/geometry/angle.h"
 #include "symba/io/file_output.h"
+#include "symba/io/pose_graph.h"
+#include "symba/pose_graph/optimize_pose_graph.h"
 #include "symba/replay/replay.h"
 #include "symba/replay/replay_output.h"
 #include "tools/commands.h"

@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "symba/backend/estimates.h"
-#include "symba/io/pose_graph.h"
 #include "symba/io/tum_trajectory.h"
+#include "symba/pose_graph/optimize_pose_graph.h"
 #include "symba/replay/replay.h"
 
 namespace symba {

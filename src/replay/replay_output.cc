@@ -7,16 +7,6 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-Json Vector(const Eigen::Vector3d& v) {
-  return Json::array({v.x(), v.y(), v.z()});
-}
-
-Json Pose(const Rigid3d& T) {
-  const Eigen::Quaterniond q = T.q.normalized();
-  return Json{{"t", Vector(T.t)},
-              {"q", Json::array({q.x(), q.y(), q.z(), q.w()})}};
-}
-
 std::string QuoteCsv(const std::string& field) {
   if (field.find_first_of(",\"\n\r") == std::string::npos) return field;
   std::string quoted = "\"";
@@ -28,26 +18,6 @@ std::string QuoteCsv(const std::string& field) {
 }
 
 }  // namespace
-
-std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects) {
-  Json list = Json::array();
-  for (const MapObjectEstimate& o : objects) {
-    Json object{{"id", o.id},
-                {"class", o.class_name},
-                {"symmetry", ToString(o.symmetry)},
-                {"t", Vector(o.t_wo)}};
-    if (o.symmetry != SymmetryType::kAsymmetric) {
-      object["axis"] = Vector(o.axis_w);
-    }
-    if (o.symmetry == SymmetryType::kDiscrete) object["angles"] = o.angles;
-    Json poses = Json::array();
-    for (const Rigid3d& pose : o.poses) poses.push_back(Pose(pose));
-    object["poses"] = std::move(poses);
-    object["observations"] = o.observations;
-    list.push_back(std::move(object));
-  }
-  return Json{{"objects", std::move(list)}}.dump(2) + "\n";
-}
 
 std::string FormatAssociationsCsv(
     const std::vector<DetectionAssignment>& assignments) {

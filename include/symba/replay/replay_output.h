@@ -15,13 +15,13 @@
 #include <vector>
 
 #include "symba/backend/estimates.h"
+#include "symba/io/objects_json.h"
 #include "symba/io/tum_trajectory.h"
 #include "symba/pose_graph/optimize_pose_graph.h"
 #include "symba/replay/replay.h"
 
 namespace symba {
 
-std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects);
 std::string FormatAssociationsCsv(
     const std::vector<DetectionAssignment>& assignments);
 std::string FormatReplaySummaryJson(const std::string& log_path,

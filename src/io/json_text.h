@@ -1,4 +1,6 @@
-// Internal to the log reader and writer: numbers and strings as JSON text.
+// Internal to the hand-written JSON writers (the log writer, the
+// simulator's gt_objects.json) and the log reader: numbers and strings as
+// JSON text.
 #ifndef SYMBA_SRC_IO_JSON_TEXT_H_
 #define SYMBA_SRC_IO_JSON_TEXT_H_
 

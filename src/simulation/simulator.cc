@@ -15,6 +15,7 @@
 
 #include <Eigen/Geometry>
 
+#include "io/json_text.h"
 #include "symba/backend/estimates.h"
 #include "symba/geometry/angle.h"
 #include "symba/geometry/so3.h"
@@ -24,6 +25,8 @@
 
 namespace symba {
 namespace {
+
+using io_internal::AppendJsonString;
 
 // Every random number of a simulation comes from one engine, through these
 // draws. Normal and Uniform scale a standard draw, so a zero sigma or an
@@ -227,29 +230,11 @@ DetectionInput GenerateDetection(const SimulationOptions& options,
   return detection;
 }
 
-void AppendJsonString(const std::string& text, std::string* out) {
-  out->push_back('"');
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out->push_back('\\');
-      out->push_back(c);
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      static const char kHex[] = "0123456789abcdef";
-      out->append("\\u00");
-      out->push_back(kHex[(c >> 4) & 0xF]);
-      out->push_back(kHex[c & 0xF]);
-    } else {
-      out->push_back(c);
-    }
-  }
-  out->push_back('"');
-}
-
 void AppendNumbers(const double* values, int count, std::string* out) {
   out->push_back('[');
   for (int i = 0; i < count; ++i) {
     if (i > 0) out->append(", ");
-    out->append(FormatDouble(values[i]));
+    AppendDouble(values[i], out);
   }
   out->push_back(']');
 }

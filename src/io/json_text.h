@@ -4,7 +4,6 @@
 #ifndef SYMBA_SRC_IO_JSON_TEXT_H_
 #define SYMBA_SRC_IO_JSON_TEXT_H_
 
-#include <cstdio>
 #include <string>
 #include <string_view>
 
@@ -20,13 +19,6 @@ inline void AppendJsonDouble(double value, std::string* out) {
   const std::size_t start = out->size();
   AppendDouble(value, out);
   if (out->find_first_of(".e", start) == std::string::npos) out->append(".0");
-}
-
-// A computed value in an error message: 6 significant digits.
-inline std::string Approx(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%g", value);
-  return buffer;
 }
 
 // `text` as a JSON string literal, escaping '"', '\\' and control bytes.

@@ -17,13 +17,14 @@
 
 #include "io/json_text.h"
 #include "io/json_tree.h"
+#include "io/text_file.h"
 #include "symba/categorization/symmetry_type.h"
 #include "symba/io/log_format.h"
 
 namespace symba {
 namespace {
 
-using io_internal::Approx;
+using internal::Approx;
 using io_internal::JsonError;
 using io_internal::JsonTree;
 using io_internal::JsonType;

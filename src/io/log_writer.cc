@@ -10,15 +10,16 @@
 #include <utility>
 
 #include "io/json_text.h"
+#include "io/text_file.h"
 #include "symba/categorization/symmetry_type.h"
 #include "symba/io/log_format.h"
 
 namespace symba {
 namespace {
 
+using internal::Approx;
 using io_internal::AppendJsonDouble;
 using io_internal::AppendJsonString;
-using io_internal::Approx;
 
 // Well-formed UTF-8 (no overlong forms, surrogates or code points above
 // U+10FFFF), as the reader's JSON parser requires.

@@ -21,6 +21,7 @@
 #include "io/text_file.h"
 #include "symba/geometry/angle.h"
 #include "symba/io/format_double.h"
+#include "symba/io/ground_truth_objects.h"
 #include "symba/io/objects_json.h"
 #include "symba/io/tum_trajectory.h"
 
@@ -43,9 +44,6 @@ using OrderedJson = nlohmann::ordered_json;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kRadToDeg = 180.0 / kPi;
-// gt_objects.json: "axis" must be pose.q * "axis_o" to this (unit vectors).
-constexpr double kAxisConsistency = 1e-3;
-
 std::string JoinPath(const std::string& dir, const char* name) {
   if (dir.empty() || dir.back() == '/') return dir + name;
   return dir + "/" + name;
@@ -74,73 +72,6 @@ Status ReadTum(const std::string& path, std::vector<TrajectoryPose>* poses) {
   Status status = ReadTumTrajectory(path, options, poses);
   if (!status.ok()) return status;
   if (poses->empty()) return Status::Error(path + ": no keyframes");
-  return Status::Ok();
-}
-
-Status ReadGroundTruthObjects(const std::string& path, GroundTruth* gt) {
-  Json root;
-  const Json* objects = nullptr;
-  Status status = ReadObjectsArray(path, &root, &objects);
-  if (!status.ok()) return status;
-  const JsonReader r(path);
-  std::set<int> ids;
-  for (std::size_t i = 0; i < objects->size(); ++i) {
-    const Json& json = (*objects)[i];
-    const std::string where = JsonReader::Index("objects", i);
-    GroundTruthObject o;
-    status = r.Object(json, where);
-    if (status.ok()) status = r.Int(json, where, "id", &o.id);
-    if (status.ok()) status = r.String(json, where, "class", &o.class_name);
-    if (status.ok()) status = r.Symmetry(json, where, &o.symmetry);
-    if (status.ok()) status = r.Int(json, where, "order", &o.order);
-    if (!status.ok()) return status;
-    if (!ids.insert(o.id).second) {
-      return r.Error(JsonReader::Sub(where, "id"),
-                     "duplicate id " + std::to_string(o.id));
-    }
-    if (o.symmetry == SymmetryType::kDiscrete ? o.order < 2 : o.order != 0) {
-      return r.Error(JsonReader::Sub(where, "order"),
-                     o.symmetry == SymmetryType::kDiscrete
-                         ? "a discrete object needs an order of at least 2"
-                         : "must be 0 for an object that is not discrete");
-    }
-    const Json* pose = nullptr;
-    status = r.Member(json, where, "pose", &pose);
-    if (status.ok()) {
-      status = r.Pose(*pose, JsonReader::Sub(where, "pose"), &o.T_wo);
-    }
-    if (!status.ok()) return status;
-    if (o.symmetry != SymmetryType::kAsymmetric) {
-      status = r.UnitVector(json, where, "axis_o", &o.axis_o);
-      if (status.ok()) status = r.UnitVector(json, where, "axis", &o.axis_w);
-      if (!status.ok()) return status;
-      if ((o.T_wo.q * o.axis_o - o.axis_w).norm() > kAxisConsistency) {
-        return r.Error(JsonReader::Sub(where, "axis"),
-                       "is not pose.q * axis_o");
-      }
-    }
-    gt->objects.push_back(std::move(o));
-  }
-  const Json* detections = nullptr;
-  status = r.Member(root, "top level", "detections", &detections);
-  if (!status.ok()) return status;
-  if (!detections->is_object()) {
-    return r.Error("detections", "expected a JSON object");
-  }
-  for (const auto& [id, value] : detections->items()) {
-    const std::string where = "detections[" + Quoted(id) + "]";
-    if (!value.is_number_integer()) {
-      return r.Error(where, "expected an integer (a ground-truth object id)");
-    }
-    const int64_t object = value.get<int64_t>();
-    if (object < std::numeric_limits<int>::min() ||
-        object > std::numeric_limits<int>::max() ||
-        ids.count(static_cast<int>(object)) == 0) {
-      return r.Error(where,
-                     "object " + std::to_string(object) + " is not in objects");
-    }
-    gt->detections[id] = static_cast<int>(object);
-  }
   return Status::Ok();
 }
 
@@ -264,7 +195,8 @@ Status ReadGroundTruth(const std::string& gt_dir, GroundTruth* gt) {
   gt->objects_path = JoinPath(gt_dir, "gt_objects.json");
   Status status = ReadTum(gt->trajectory_path, &gt->keyframes);
   if (!status.ok()) return status;
-  return ReadGroundTruthObjects(gt->objects_path, gt);
+  return ReadGroundTruthObjectsJson(
+      gt->objects_path, &gt->objects, &gt->detections);
 }
 
 Status ReadReplayOutputs(const std::string& result_dir,

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "symba/io/pose_graph.h"
+#include "symba/pose_graph/optimize_pose_graph.h"
 
 namespace {
 

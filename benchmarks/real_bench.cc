@@ -41,9 +41,10 @@
 #include "symba/evaluation/evaluate.h"
 #include "symba/evaluation/trajectory_error.h"
 #include "symba/import/tum_import.h"
-#include "symba/io/replay_output.h"
+#include "symba/io/file_output.h"
 #include "symba/io/tum_trajectory.h"
 #include "symba/replay/replay.h"
+#include "symba/replay/replay_output.h"
 #include "top_down_svg.h"
 
 namespace {

@@ -17,9 +17,12 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include "io/json_file.h"
 #include "io/text_file.h"
 #include "symba/geometry/angle.h"
-#include "symba/io/replay_output.h"
+#include "symba/io/format_double.h"
+#include "symba/io/ground_truth_objects.h"
+#include "symba/io/objects_json.h"
 #include "symba/io/tum_trajectory.h"
 
 namespace symba {
@@ -28,9 +31,11 @@ namespace {
 using internal::Approx;
 using internal::At;
 using internal::IsBlank;
+using internal::JsonReader;
 using internal::ParseDouble;
 using internal::ParseInteger;
 using internal::Quoted;
+using internal::ReadObjectsArray;
 using internal::ReadText;
 using internal::SplitLines;
 
@@ -39,23 +44,9 @@ using OrderedJson = nlohmann::ordered_json;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kRadToDeg = 180.0 / kPi;
-// Quaternions and axes whose norm is within this of 1 are normalised; others
-// are errors (as in the log format).
-constexpr double kUnitTolerance = 1e-3;
-// gt_objects.json: "axis" must be pose.q * "axis_o" to this (unit vectors).
-constexpr double kAxisConsistency = 1e-3;
-
 std::string JoinPath(const std::string& dir, const char* name) {
   if (dir.empty() || dir.back() == '/') return dir + name;
   return dir + "/" + name;
-}
-
-// Normalises `q` if its norm is within kUnitTolerance of 1.
-bool NormaliseQuaternion(Eigen::Quaterniond* q) {
-  const double norm = q->norm();
-  if (!(std::abs(norm - 1.0) <= kUnitTolerance)) return false;
-  q->normalize();
-  return true;
 }
 
 // The rotation angle between two unit quaternions, in [0, pi].
@@ -81,338 +72,6 @@ Status ReadTum(const std::string& path, std::vector<TrajectoryPose>* poses) {
   Status status = ReadTumTrajectory(path, options, poses);
   if (!status.ok()) return status;
   if (poses->empty()) return Status::Error(path + ": no keyframes");
-  return Status::Ok();
-}
-
-// ---------------------------------------------------------------------------
-// JSON files: syntax errors as FILE:LINE, content errors as FILE: member.
-
-Status ReadJson(const std::string& path, Json* json) {
-  std::string text;
-  Status status = ReadText(path, &text);
-  if (!status.ok()) return status;
-  try {
-    *json = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    // e.byte is the 1-based offset of the character where parsing stopped
-    // (one past the end at the end of input); count the lines before it.
-    const std::size_t before =
-        std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
-    const int line = 1 + static_cast<int>(std::count(
-                             text.begin(),
-                             text.begin() + static_cast<std::ptrdiff_t>(before),
-                             '\n'));
-    // nlohmann's message: "[json.exception.parse_error.101] parse error at
-    // line L, column C: REASON"; keep REASON.
-    std::string reason = e.what();
-    const std::size_t column = reason.find("column ");
-    const std::size_t colon = column == std::string::npos
-                                  ? std::string::npos
-                                  : reason.find(": ", column);
-    if (colon != std::string::npos) reason = reason.substr(colon + 2);
-    return Status::Error(At(path, line) + ": invalid JSON: " + reason);
-  }
-  return Status::Ok();
-}
-
-// Reads JSON members with "FILE: where: reason" errors.
-class JsonReader {
- public:
-  explicit JsonReader(std::string path) : path_(std::move(path)) {}
-
-  Status Error(const std::string& where, const std::string& reason) const {
-    return Status::Error(path_ + ": " + where + ": " + reason);
-  }
-
-  // `object[key]`, which must exist.
-  Status Member(const Json& object,
-                const std::string& where,
-                const char* key,
-                const Json** member) const {
-    const auto it = object.find(key);
-    if (it == object.end()) {
-      return Status::Error(path_ + ": " + where + ": missing " + Quoted(key));
-    }
-    *member = &*it;
-    return Status::Ok();
-  }
-
-  Status Object(const Json& json, const std::string& where) const {
-    if (!json.is_object()) return Error(where, "expected a JSON object");
-    return Status::Ok();
-  }
-
-  Status Int(const Json& object,
-             const std::string& where,
-             const char* key,
-             int* value) const {
-    const Json* member = nullptr;
-    Status status = Member(object, where, key, &member);
-    if (!status.ok()) return status;
-    if (!member->is_number_integer() ||
-        member->get<int64_t>() < std::numeric_limits<int>::min() ||
-        (member->is_number_unsigned()
-             ? member->get<uint64_t>() >
-                   static_cast<uint64_t>(std::numeric_limits<int>::max())
-             : member->get<int64_t>() > std::numeric_limits<int>::max())) {
-      return Error(Sub(where, key), "expected an integer");
-    }
-    *value = member->get<int>();
-    return Status::Ok();
-  }
-
-  Status String(const Json& object,
-                const std::string& where,
-                const char* key,
-                std::string* value) const {
-    const Json* member = nullptr;
-    Status status = Member(object, where, key, &member);
-    if (!status.ok()) return status;
-    if (!member->is_string())
-      return Error(Sub(where, key), "expected a string");
-    *value = member->get<std::string>();
-    return Status::Ok();
-  }
-
-  Status Symmetry(const Json& object,
-                  const std::string& where,
-                  SymmetryType* type) const {
-    std::string name;
-    Status status = String(object, where, "symmetry", &name);
-    if (!status.ok()) return status;
-    const std::optional<SymmetryType> parsed = ParseSymmetryType(name);
-    if (!parsed) {
-      return Error(Sub(where, "symmetry"),
-                   Quoted(name) + " is not asymmetric, discrete or continuous");
-    }
-    *type = *parsed;
-    return Status::Ok();
-  }
-
-  // An array of exactly `n` finite numbers.
-  Status Numbers(const Json& json,
-                 const std::string& where,
-                 int n,
-                 double* values) const {
-    if (!json.is_array() || static_cast<int>(json.size()) != n) {
-      return Error(where,
-                   "expected an array of " + std::to_string(n) + " numbers");
-    }
-    for (int i = 0; i < n; ++i) {
-      if (!json[i].is_number() || !std::isfinite(json[i].get<double>())) {
-        return Error(
-            where,
-            "expected an array of " + std::to_string(n) + " finite numbers");
-      }
-      values[i] = json[i].get<double>();
-    }
-    return Status::Ok();
-  }
-
-  Status Vector(const Json& object,
-                const std::string& where,
-                const char* key,
-                Eigen::Vector3d* v) const {
-    const Json* member = nullptr;
-    Status status = Member(object, where, key, &member);
-    if (!status.ok()) return status;
-    double values[3];
-    status = Numbers(*member, Sub(where, key), 3, values);
-    if (!status.ok()) return status;
-    *v = Eigen::Vector3d(values[0], values[1], values[2]);
-    return Status::Ok();
-  }
-
-  // A unit 3-vector (normalised when within kUnitTolerance of unit length).
-  Status UnitVector(const Json& object,
-                    const std::string& where,
-                    const char* key,
-                    Eigen::Vector3d* v) const {
-    Status status = Vector(object, where, key, v);
-    if (!status.ok()) return status;
-    if (!(std::abs(v->norm() - 1.0) <= kUnitTolerance)) {
-      return Error(Sub(where, key), "norm " + Approx(v->norm()) + " is not 1");
-    }
-    v->normalize();
-    return Status::Ok();
-  }
-
-  // {"t": [x, y, z], "q": [qx, qy, qz, qw]}.
-  Status Pose(const Json& json, const std::string& where, Rigid3d* T) const {
-    Status status = Object(json, where);
-    if (!status.ok()) return status;
-    status = Vector(json, where, "t", &T->t);
-    if (!status.ok()) return status;
-    const Json* q_json = nullptr;
-    status = Member(json, where, "q", &q_json);
-    if (!status.ok()) return status;
-    double q[4];
-    status = Numbers(*q_json, Sub(where, "q"), 4, q);
-    if (!status.ok()) return status;
-    T->q = Eigen::Quaterniond(q[3], q[0], q[1], q[2]);
-    if (!NormaliseQuaternion(&T->q)) {
-      return Error(Sub(where, "q"),
-                   "quaternion norm " + Approx(T->q.norm()) + " is not 1");
-    }
-    return Status::Ok();
-  }
-
-  static std::string Sub(const std::string& where, const char* key) {
-    return where.empty() ? std::string(key) : where + "." + key;
-  }
-  static std::string Index(const std::string& where, std::size_t i) {
-    return where + "[" + std::to_string(i) + "]";
-  }
-
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
-
-// Reads `path` as a JSON object and finds its top-level "objects" array.
-Status ReadObjectsArray(const std::string& path,
-                        Json* root,
-                        const Json** objects) {
-  Status status = ReadJson(path, root);
-  if (!status.ok()) return status;
-  if (!root->is_object()) {
-    return Status::Error(path + ": expected a JSON object at the top level");
-  }
-  const JsonReader r(path);
-  status = r.Member(*root, "top level", "objects", objects);
-  if (!status.ok()) return status;
-  if (!(*objects)->is_array()) return r.Error("objects", "expected an array");
-  return Status::Ok();
-}
-
-Status ReadGroundTruthObjects(const std::string& path, GroundTruth* gt) {
-  Json root;
-  const Json* objects = nullptr;
-  Status status = ReadObjectsArray(path, &root, &objects);
-  if (!status.ok()) return status;
-  const JsonReader r(path);
-  std::set<int> ids;
-  for (std::size_t i = 0; i < objects->size(); ++i) {
-    const Json& json = (*objects)[i];
-    const std::string where = JsonReader::Index("objects", i);
-    GroundTruthObject o;
-    status = r.Object(json, where);
-    if (status.ok()) status = r.Int(json, where, "id", &o.id);
-    if (status.ok()) status = r.String(json, where, "class", &o.class_name);
-    if (status.ok()) status = r.Symmetry(json, where, &o.symmetry);
-    if (status.ok()) status = r.Int(json, where, "order", &o.order);
-    if (!status.ok()) return status;
-    if (!ids.insert(o.id).second) {
-      return r.Error(JsonReader::Sub(where, "id"),
-                     "duplicate id " + std::to_string(o.id));
-    }
-    if (o.symmetry == SymmetryType::kDiscrete ? o.order < 2 : o.order != 0) {
-      return r.Error(JsonReader::Sub(where, "order"),
-                     o.symmetry == SymmetryType::kDiscrete
-                         ? "a discrete object needs an order of at least 2"
-                         : "must be 0 for an object that is not discrete");
-    }
-    const Json* pose = nullptr;
-    status = r.Member(json, where, "pose", &pose);
-    if (status.ok()) {
-      status = r.Pose(*pose, JsonReader::Sub(where, "pose"), &o.T_wo);
-    }
-    if (!status.ok()) return status;
-    if (o.symmetry != SymmetryType::kAsymmetric) {
-      status = r.UnitVector(json, where, "axis_o", &o.axis_o);
-      if (status.ok()) status = r.UnitVector(json, where, "axis", &o.axis_w);
-      if (!status.ok()) return status;
-      if ((o.T_wo.q * o.axis_o - o.axis_w).norm() > kAxisConsistency) {
-        return r.Error(JsonReader::Sub(where, "axis"),
-                       "is not pose.q * axis_o");
-      }
-    }
-    gt->objects.push_back(std::move(o));
-  }
-  const Json* detections = nullptr;
-  status = r.Member(root, "top level", "detections", &detections);
-  if (!status.ok()) return status;
-  if (!detections->is_object()) {
-    return r.Error("detections", "expected a JSON object");
-  }
-  for (const auto& [id, value] : detections->items()) {
-    const std::string where = "detections[" + Quoted(id) + "]";
-    if (!value.is_number_integer()) {
-      return r.Error(where, "expected an integer (a ground-truth object id)");
-    }
-    const int64_t object = value.get<int64_t>();
-    if (object < std::numeric_limits<int>::min() ||
-        object > std::numeric_limits<int>::max() ||
-        ids.count(static_cast<int>(object)) == 0) {
-      return r.Error(where,
-                     "object " + std::to_string(object) + " is not in objects");
-    }
-    gt->detections[id] = static_cast<int>(object);
-  }
-  return Status::Ok();
-}
-
-Status ReadMapObjects(const std::string& path,
-                      std::vector<MapObjectEstimate>* result) {
-  Json root;
-  const Json* objects = nullptr;
-  Status status = ReadObjectsArray(path, &root, &objects);
-  if (!status.ok()) return status;
-  const JsonReader r(path);
-  std::set<int> ids;
-  result->clear();
-  for (std::size_t i = 0; i < objects->size(); ++i) {
-    const Json& json = (*objects)[i];
-    const std::string where = JsonReader::Index("objects", i);
-    MapObjectEstimate o;
-    status = r.Object(json, where);
-    if (status.ok()) status = r.Int(json, where, "id", &o.id);
-    if (status.ok()) status = r.String(json, where, "class", &o.class_name);
-    if (status.ok()) status = r.Symmetry(json, where, &o.symmetry);
-    if (status.ok()) status = r.Vector(json, where, "t", &o.t_wo);
-    if (status.ok()) {
-      status = r.Int(json, where, "observations", &o.observations);
-    }
-    if (!status.ok()) return status;
-    if (!ids.insert(o.id).second) {
-      return r.Error(JsonReader::Sub(where, "id"),
-                     "duplicate id " + std::to_string(o.id));
-    }
-    if (o.symmetry != SymmetryType::kAsymmetric) {
-      status = r.UnitVector(json, where, "axis", &o.axis_w);
-      if (!status.ok()) return status;
-    }
-    if (o.symmetry == SymmetryType::kDiscrete) {
-      const Json* angles = nullptr;
-      status = r.Member(json, where, "angles", &angles);
-      if (!status.ok()) return status;
-      const std::string angles_where = JsonReader::Sub(where, "angles");
-      if (!angles->is_array()) {
-        return r.Error(angles_where, "expected an array of numbers");
-      }
-      for (const Json& angle : *angles) {
-        if (!angle.is_number() || !std::isfinite(angle.get<double>())) {
-          return r.Error(angles_where, "expected an array of finite numbers");
-        }
-        o.angles.push_back(angle.get<double>());
-      }
-    }
-    const Json* poses = nullptr;
-    status = r.Member(json, where, "poses", &poses);
-    if (!status.ok()) return status;
-    const std::string poses_where = JsonReader::Sub(where, "poses");
-    if (!poses->is_array() || poses->empty()) {
-      return r.Error(poses_where, "expected a non-empty array of poses");
-    }
-    for (std::size_t k = 0; k < poses->size(); ++k) {
-      Rigid3d T;
-      status = r.Pose((*poses)[k], JsonReader::Index(poses_where, k), &T);
-      if (!status.ok()) return status;
-      o.poses.push_back(T);
-    }
-    result->push_back(std::move(o));
-  }
   return Status::Ok();
 }
 
@@ -536,7 +195,8 @@ Status ReadGroundTruth(const std::string& gt_dir, GroundTruth* gt) {
   gt->objects_path = JoinPath(gt_dir, "gt_objects.json");
   Status status = ReadTum(gt->trajectory_path, &gt->keyframes);
   if (!status.ok()) return status;
-  return ReadGroundTruthObjects(gt->objects_path, gt);
+  return ReadGroundTruthObjectsJson(
+      gt->objects_path, &gt->objects, &gt->detections);
 }
 
 Status ReadReplayOutputs(const std::string& result_dir,
@@ -547,7 +207,7 @@ Status ReadReplayOutputs(const std::string& result_dir,
   outputs->associations_path = JoinPath(result_dir, "associations.csv");
   Status status = ReadTum(outputs->trajectory_path, &outputs->keyframes);
   if (!status.ok()) return status;
-  status = ReadMapObjects(outputs->objects_path, &outputs->objects);
+  status = ReadObjectsJson(outputs->objects_path, &outputs->objects);
   if (!status.ok()) return status;
   return ReadAssociations(outputs->associations_path, &outputs->associations);
 }

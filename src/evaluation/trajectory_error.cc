@@ -1,4 +1,5 @@
 #include "symba/evaluation/trajectory_error.h"
+#include "symba/io/format_double.h"
 
 #include <algorithm>
 #include <cmath>

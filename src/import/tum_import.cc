@@ -1,4 +1,5 @@
 #include "symba/import/tum_import.h"
+#include "symba/io/format_double.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,44 +1,24 @@
-// Internal to the log reader and writer: numbers and strings as JSON text.
+// Internal to the hand-written JSON writers (the log writer, the
+// simulator's gt_objects.json) and the log reader: numbers and strings as
+// JSON text.
 #ifndef SYMBA_SRC_IO_JSON_TEXT_H_
 #define SYMBA_SRC_IO_JSON_TEXT_H_
 
-#include <charconv>
-#include <cstdio>
 #include <string>
 #include <string_view>
+
+#include "symba/io/format_double.h"
 
 namespace symba {
 namespace io_internal {
 
-// The shortest decimal text that reads back as exactly `value` (at most
-// max_digits10 significant digits), e.g. "1.2", "1e+300", "-0". Finite
-// values only.
-inline void AppendShortest(double value, std::string* out) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  out->append(buffer, result.ptr);
-}
-
-inline std::string Shortest(double value) {
-  std::string text;
-  AppendShortest(value, &text);
-  return text;
-}
-
-// As AppendShortest, but always a JSON float literal (with '.' or an
-// exponent: "1.0", "-0.0"), so it reads back as a double, signed zero
-// included.
+// As AppendDouble (symba/io/format_double.h), but always a JSON float
+// literal (with '.' or an exponent: "1.0", "-0.0"), so it reads back as a
+// double, signed zero included.
 inline void AppendJsonDouble(double value, std::string* out) {
   const std::size_t start = out->size();
-  AppendShortest(value, out);
+  AppendDouble(value, out);
   if (out->find_first_of(".e", start) == std::string::npos) out->append(".0");
-}
-
-// A computed value in an error message: 6 significant digits.
-inline std::string Approx(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%g", value);
-  return buffer;
 }
 
 // `text` as a JSON string literal, escaping '"', '\\' and control bytes.

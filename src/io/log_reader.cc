@@ -17,17 +17,17 @@
 
 #include "io/json_text.h"
 #include "io/json_tree.h"
+#include "io/text_file.h"
 #include "symba/categorization/symmetry_type.h"
 #include "symba/io/log_format.h"
 
 namespace symba {
 namespace {
 
-using io_internal::Approx;
+using internal::Approx;
 using io_internal::JsonError;
 using io_internal::JsonTree;
 using io_internal::JsonType;
-using io_internal::Shortest;
 using Index = JsonTree::Index;
 
 constexpr double kUnitTolerance = 1e-3;
@@ -109,7 +109,7 @@ class LineReader {
       case JsonType::kUnsigned:
         return std::to_string(node.unsigned_integer);
       case JsonType::kFloat:
-        return Shortest(node.number);
+        return FormatDouble(node.number);
       case JsonType::kString:
         return "the string " + Quote(tree_.String(i));
       case JsonType::kArray:
@@ -550,9 +550,9 @@ Status ReadKeyframe(const LineReader& in,
   if (!status.ok()) return status;
   if (previous.exists && keyframe->timestamp < previous.timestamp) {
     return in.Fail(root.Member("t"),
-                   Shortest(keyframe->timestamp) +
+                   FormatDouble(keyframe->timestamp) +
                        " is before the previous keyframe's time " +
-                       Shortest(previous.timestamp) + " (line " +
+                       FormatDouble(previous.timestamp) + " (line " +
                        std::to_string(previous.line) + ")");
   }
 

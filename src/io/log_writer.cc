@@ -10,16 +10,16 @@
 #include <utility>
 
 #include "io/json_text.h"
+#include "io/text_file.h"
 #include "symba/categorization/symmetry_type.h"
 #include "symba/io/log_format.h"
 
 namespace symba {
 namespace {
 
+using internal::Approx;
 using io_internal::AppendJsonDouble;
 using io_internal::AppendJsonString;
-using io_internal::Approx;
-using io_internal::Shortest;
 
 // Well-formed UTF-8 (no overlong forms, surrogates or code points above
 // U+10FFFF), as the reader's JSON parser requires.
@@ -79,7 +79,7 @@ template <typename Fail>
 Status CheckPositive(double value, const std::string& path, Fail fail) {
   if (!std::isfinite(value)) return fail(path, "non-finite number");
   if (!(value > 0.0))
-    return fail(path, "must be positive, got " + Shortest(value));
+    return fail(path, "must be positive, got " + FormatDouble(value));
   return Status::Ok();
 }
 
@@ -239,9 +239,9 @@ class LogWriter::Impl {
     }
     if (has_previous_ && keyframe.timestamp < previous_timestamp_) {
       return fail("t",
-                  Shortest(keyframe.timestamp) +
+                  FormatDouble(keyframe.timestamp) +
                       " is before the previous keyframe's time " +
-                      Shortest(previous_timestamp_));
+                      FormatDouble(previous_timestamp_));
     }
     if (!has_previous_ && !keyframe.T_wc) {
       return fail("T_wc", "missing (the first keyframe needs T_wc)");

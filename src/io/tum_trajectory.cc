@@ -1,14 +1,13 @@
 #include "symba/io/tum_trajectory.h"
 
 #include <algorithm>
-#include <array>
 #include <cerrno>
-#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 
 #include "io/text_file.h"
+#include "symba/io/format_double.h"
 
 namespace symba {
 namespace {
@@ -18,13 +17,6 @@ namespace {
 constexpr double kUnitTolerance = 1e-3;
 
 }  // namespace
-
-std::string FormatDouble(double value) {
-  std::array<char, 32> buffer;
-  const auto result =
-      std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-  return std::string(buffer.data(), result.ptr);
-}
 
 std::string FormatTumTrajectory(
     const std::vector<std::pair<double, Rigid3d>>& trajectory) {

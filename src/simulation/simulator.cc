@@ -18,7 +18,9 @@
 #include "symba/backend/estimates.h"
 #include "symba/geometry/angle.h"
 #include "symba/geometry/so3.h"
-#include "symba/io/replay_output.h"
+#include "symba/io/file_output.h"
+#include "symba/io/ground_truth_objects.h"
+#include "symba/io/tum_trajectory.h"
 
 namespace symba {
 namespace {
@@ -225,76 +227,29 @@ DetectionInput GenerateDetection(const SimulationOptions& options,
   return detection;
 }
 
-void AppendJsonString(const std::string& text, std::string* out) {
-  out->push_back('"');
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out->push_back('\\');
-      out->push_back(c);
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      static const char kHex[] = "0123456789abcdef";
-      out->append("\\u00");
-      out->push_back(kHex[(c >> 4) & 0xF]);
-      out->push_back(kHex[c & 0xF]);
-    } else {
-      out->push_back(c);
-    }
-  }
-  out->push_back('"');
-}
-
-void AppendNumbers(const double* values, int count, std::string* out) {
-  out->push_back('[');
-  for (int i = 0; i < count; ++i) {
-    if (i > 0) out->append(", ");
-    out->append(FormatDouble(values[i]));
-  }
-  out->push_back(']');
-}
-
-void AppendVector(const Eigen::Vector3d& v, std::string* out) {
-  AppendNumbers(v.data(), 3, out);
-}
-
 std::string FormatGroundTruthObjects(const SimulatedSequence& sequence) {
-  std::string out = "{\"objects\": [";
+  std::vector<GroundTruthObject> objects;
   for (size_t i = 0; i < sequence.objects.size(); ++i) {
     const SimulatedObject& o = sequence.objects[i];
-    out.append(i == 0 ? "\n  " : ",\n  ");
-    out.append("{\"id\": " + std::to_string(i) + ", \"class\": ");
-    AppendJsonString(o.class_name, &out);
-    out.append(", \"symmetry\": ");
-    AppendJsonString(ToString(o.symmetry), &out);
-    const int order = o.symmetry == SymmetryType::kDiscrete ? o.order : 0;
-    out.append(", \"order\": " + std::to_string(order));
-    const Eigen::Quaterniond q = o.T_wo.q.normalized();
+    GroundTruthObject g;
+    g.id = static_cast<int>(i);
+    g.class_name = o.class_name;
+    g.symmetry = o.symmetry;
+    g.order = o.symmetry == SymmetryType::kDiscrete ? o.order : 0;
+    g.T_wo = Rigid3d(o.T_wo.q.normalized(), o.T_wo.t);
     if (o.symmetry != SymmetryType::kAsymmetric) {
-      const Eigen::Vector3d a_o = o.axis_o.normalized();
-      out.append(", \"axis_o\": ");
-      AppendVector(a_o, &out);
-      out.append(", \"axis\": ");
-      AppendVector(q * a_o, &out);
+      g.axis_o = o.axis_o.normalized();
+      g.axis_w = g.T_wo.q * g.axis_o;
     }
-    out.append(", \"pose\": {\"t\": ");
-    AppendVector(o.T_wo.t, &out);
-    out.append(", \"q\": ");
-    const double coeffs[4] = {q.x(), q.y(), q.z(), q.w()};
-    AppendNumbers(coeffs, 4, &out);
-    out.append("}}");
+    objects.push_back(std::move(g));
   }
-  out.append(sequence.objects.empty() ? "],\n" : "\n],\n");
-  out.append("\"detections\": {");
-  bool first = true;
+  std::vector<std::pair<std::string, int>> detections;
   for (const auto& truths : sequence.detections) {
     for (const SimulatedDetectionTruth& truth : truths) {
-      out.append(first ? "\n  " : ",\n  ");
-      first = false;
-      AppendJsonString(truth.id, &out);
-      out.append(": " + std::to_string(truth.object));
+      detections.emplace_back(truth.id, truth.object);
     }
   }
-  out.append(first ? "}}\n" : "\n}}\n");
-  return out;
+  return FormatGroundTruthObjectsJson(objects, detections);
 }
 
 }  // namespace

@@ -9,8 +9,11 @@
 #include <CLI/CLI.hpp>
 
 #include "symba/geometry/angle.h"
-#include "symba/io/replay_output.h"
+#include "symba/io/file_output.h"
+#include "symba/io/pose_graph.h"
+#include "symba/pose_graph/optimize_pose_graph.h"
 #include "symba/replay/replay.h"
+#include "symba/replay/replay_output.h"
 #include "tools/commands.h"
 
 namespace {

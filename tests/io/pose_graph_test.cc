@@ -29,6 +29,8 @@
 #include "symba/factors/pose_graph_edge.h"
 #include "symba/geometry/angle.h"
 #include "symba/geometry/rigid3.h"
+#include "symba/io/tum_trajectory.h"
+#include "symba/pose_graph/optimize_pose_graph.h"
 #include "test_support/random.h"
 
 #ifndef SYMBA_POSEGRAPH_DATA_DIR

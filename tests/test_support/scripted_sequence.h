@@ -3,6 +3,16 @@
 // multi-hypothesis detector would hand the backend. Header-only, deterministic
 // for a seed.
 //
+// A deliberately independent oracle. The library has its own simulator
+// (src/simulation, `symba simulate`), which the end-to-end tools use; the
+// backend tests do not. This header uses only the backend's input types
+// (KeyframeInput), the symmetry types, the geometry helpers and the other
+// test_support headers, never symba/simulation or the log format, and it
+// draws its own noise (test_support/random.h, hypothesis_generator.h). So a
+// bug in the simulator (a wrong frame convention, mode or noise model) cannot
+// produce the same bug in the backend tests' inputs and their ground truth
+// and hide it: the two would have to be wrong in the same way independently.
+//
 // World: z up, the scene centre c at the origin by default. Keyframe k of a
 // loop of n sits at orbit angle phi_k = start_angle + 2 pi k / n on a circle
 // of `radius` about c, `height` above it, and looks at c (camera x right,
@@ -60,8 +70,8 @@
 
 #include "symba/backend/keyframe_input.h"
 #include "symba/categorization/symmetry_type.h"
-#include "symba/factors/reprojection_factor.h"
 #include "symba/geometry/angle.h"
+#include "symba/geometry/pinhole_intrinsics.h"
 #include "symba/geometry/rigid3.h"
 #include "symba/geometry/so3.h"
 #include "test_support/hypothesis_generator.h"

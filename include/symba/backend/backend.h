@@ -32,7 +32,7 @@
 #include "symba/backend/keyframe_input.h"
 #include "symba/categorization/categorize.h"
 #include "symba/common/status.h"
-#include "symba/factors/reprojection_factor.h"
+#include "symba/geometry/pinhole_intrinsics.h"
 
 namespace symba {
 

@@ -53,24 +53,13 @@
 #include "symba/categorization/symmetry_type.h"
 #include "symba/common/status.h"
 #include "symba/geometry/rigid3.h"
+#include "symba/io/ground_truth_objects.h"
 #include "symba/io/tum_trajectory.h"
 
 namespace symba {
 
 // Keyframes whose timestamps differ by at most this much are the same [s].
 inline constexpr double kTimestampTolerance = 1e-6;
-
-struct GroundTruthObject {
-  int id = 0;
-  std::string class_name;
-  SymmetryType symmetry = SymmetryType::kAsymmetric;
-  int order = 0;  // discrete: the symmetry order (>= 2); otherwise 0
-  // Unit symmetry axis in the object and in the world frame (symmetric
-  // objects; zero for asymmetric ones).
-  Eigen::Vector3d axis_o = Eigen::Vector3d::Zero();
-  Eigen::Vector3d axis_w = Eigen::Vector3d::Zero();
-  Rigid3d T_wo;
-};
 
 struct GroundTruth {
   std::string trajectory_path;  // the files it was read from

@@ -16,16 +16,10 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "symba/geometry/pinhole_intrinsics.h"
 #include "symba/geometry/so3.h"
 
 namespace symba {
-
-struct PinholeIntrinsics {
-  double fx = 1.0;
-  double fy = 1.0;
-  double cx = 0.0;
-  double cy = 0.0;
-};
 
 class ReprojectionFactor {
  public:

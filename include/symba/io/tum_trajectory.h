@@ -44,9 +44,6 @@ inline Status ReadTumTrajectory(const std::string& path,
   return ReadTumTrajectory(path, TumReadOptions{}, poses);
 }
 
-// The shortest decimal text that reads back as the same double.
-std::string FormatDouble(double value);
-
 std::string FormatTumTrajectory(
     const std::vector<std::pair<double, Rigid3d>>& trajectory);
 // Keyframes by their timestamps.

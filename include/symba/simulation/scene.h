@@ -28,8 +28,8 @@
 
 #include "symba/categorization/symmetry_type.h"
 #include "symba/common/status.h"
-#include "symba/factors/reprojection_factor.h"
 #include "symba/geometry/angle.h"
+#include "symba/geometry/pinhole_intrinsics.h"
 #include "symba/geometry/rigid3.h"
 
 namespace symba {

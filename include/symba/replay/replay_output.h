@@ -1,28 +1,27 @@
 // The outputs of a replay (log-format.md, "Outputs of a replay"), formatted
 // in memory and written as one directory that appears complete or not at
-// all.
+// all (WriteDirectoryAtomically, symba/io/file_output.h).
 //
-//   trajectory.tum     timestamp tx ty tz qx qy qz qw   (T_wc, one line per
-//   keyframe) objects.json       {"objects": [{id, class, symmetry, t, axis?,
-//   angles?, poses, observations}]} associations.csv
-//   keyframe,detection,object,symmetry summary.json       counts, timings,
-//   solver statistics, options used
-#ifndef SYMBA_IO_REPLAY_OUTPUT_H_
-#define SYMBA_IO_REPLAY_OUTPUT_H_
+//   trajectory.tum    timestamp tx ty tz qx qy qz qw  (T_wc, one per keyframe)
+//   objects.json      {"objects": [{id, class, symmetry, t, axis?, angles?,
+//                                   poses, observations}]}
+//   associations.csv  keyframe,detection,object,symmetry
+//   summary.json      counts, timings, solver statistics, options used
+#ifndef SYMBA_REPLAY_REPLAY_OUTPUT_H_
+#define SYMBA_REPLAY_REPLAY_OUTPUT_H_
 
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "symba/backend/estimates.h"
-#include "symba/common/status.h"
-#include "symba/io/pose_graph.h"
+#include "symba/io/objects_json.h"
 #include "symba/io/tum_trajectory.h"
+#include "symba/pose_graph/optimize_pose_graph.h"
 #include "symba/replay/replay.h"
 
 namespace symba {
 
-std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects);
 std::string FormatAssociationsCsv(
     const std::vector<DetectionAssignment>& assignments);
 std::string FormatReplaySummaryJson(const std::string& log_path,
@@ -42,15 +41,6 @@ std::vector<std::pair<std::string, std::string>> PoseGraphOutputFiles(
     const PoseGraph& graph,
     const PoseGraphSolveSummary& summary);
 
-// Writes `files` (name, content) into directory `dir` atomically: they are
-// written into a fresh sibling directory which is then renamed onto `dir`
-// (an existing `dir` is moved aside first and removed only after the rename
-// succeeded). On any failure nothing is left behind and an existing `dir` is
-// untouched. The parent of `dir` must exist.
-Status WriteDirectoryAtomically(
-    const std::string& dir,
-    const std::vector<std::pair<std::string, std::string>>& files);
-
 }  // namespace symba
 
-#endif  // SYMBA_IO_REPLAY_OUTPUT_H_
+#endif  // SYMBA_REPLAY_REPLAY_OUTPUT_H_

@@ -1,45 +1,11 @@
-#include "symba/io/replay_output.h"
-
-#include <unistd.h>
-
-#include <atomic>
-#include <filesystem>
-#include <fstream>
-#include <system_error>
+#include "symba/replay/replay_output.h"
 
 #include <nlohmann/json.hpp>
 
 namespace symba {
 namespace {
 
-namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
-
-Json Vector(const Eigen::Vector3d& v) {
-  return Json::array({v.x(), v.y(), v.z()});
-}
-
-Json Pose(const Rigid3d& T) {
-  const Eigen::Quaterniond q = T.q.normalized();
-  return Json{{"t", Vector(T.t)},
-              {"q", Json::array({q.x(), q.y(), q.z(), q.w()})}};
-}
-
-// A sibling path of `dir` that no other writer uses.
-fs::path SiblingPath(const fs::path& dir, const char* tag) {
-  static std::atomic<int> counter{0};
-  return dir.parent_path() /
-         ("." + dir.filename().string() + "." + tag + "-" +
-          std::to_string(::getpid()) + "-" + std::to_string(counter++));
-}
-
-Status WriteFile(const fs::path& path, const std::string& content) {
-  std::ofstream out(path, std::ios::binary);
-  out << content;
-  out.close();
-  if (!out) return Status::Error(path.string() + ": cannot write");
-  return Status::Ok();
-}
 
 std::string QuoteCsv(const std::string& field) {
   if (field.find_first_of(",\"\n\r") == std::string::npos) return field;
@@ -52,33 +18,6 @@ std::string QuoteCsv(const std::string& field) {
 }
 
 }  // namespace
-
-std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects) {
-  Json list = Json::array();
-  for (const MapObjectEstimate& o : objects) {
-    Json object{{"id", o.id},
-                {"class", o.class_name},
-                {"symmetry", ToString(o.symmetry)},
-                {"t", Vector(o.t_wo)}};
-    if (o.symmetry != SymmetryType::kAsymmetric) {
-      object["axis"] = Vector(o.axis_w);
-    }
-    if (o.symmetry == SymmetryType::kDiscrete) object["angles"] = o.angles;
-    Json poses = Json::array();
-    for (const Rigid3d& pose : o.poses) poses.push_back(Pose(pose));
-    object["poses"] = std::move(poses);
-    object["observations"] = o.observations;
-    if (o.upgrade) {
-      // An asymmetric object that became symmetric, and on what evidence.
-      object["upgrade"] = Json{{"keyframe", o.upgrade->keyframe},
-                               {"evidence", o.upgrade->evidence},
-                               {"order", o.upgrade->order},
-                               {"angle", o.upgrade->angle}};
-    }
-    list.push_back(std::move(object));
-  }
-  return Json{{"objects", std::move(list)}}.dump(2) + "\n";
-}
 
 std::string FormatAssociationsCsv(
     const std::vector<DetectionAssignment>& assignments) {
@@ -193,53 +132,6 @@ std::vector<std::pair<std::string, std::string>> PoseGraphOutputFiles(
             {"message", summary.message}};
   return {{"trajectory.tum", FormatTumTrajectory(poses)},
           {"summary.json", json.dump(2) + "\n"}};
-}
-
-Status WriteDirectoryAtomically(
-    const std::string& dir_name,
-    const std::vector<std::pair<std::string, std::string>>& files) {
-  std::error_code error;
-  fs::path dir = fs::path(dir_name);
-  if (dir.filename().empty()) dir = dir.parent_path();  // "out/" -> "out"
-  if (dir.parent_path().empty()) dir = fs::path(".") / dir;
-  if (!fs::is_directory(dir.parent_path(), error)) {
-    return Status::Error(dir_name + ": parent directory " +
-                         dir.parent_path().string() + " does not exist");
-  }
-  if (fs::exists(dir, error) && !fs::is_directory(dir, error)) {
-    return Status::Error(dir_name + ": exists and is not a directory");
-  }
-  const fs::path staging = SiblingPath(dir, "tmp");
-  if (!fs::create_directory(staging, error)) {
-    return Status::Error(dir_name + ": cannot create " + staging.string() +
-                         ": " + error.message());
-  }
-  for (const auto& [name, content] : files) {
-    Status status = WriteFile(staging / name, content);
-    if (!status.ok()) {
-      fs::remove_all(staging, error);
-      return status;
-    }
-  }
-  fs::path old;
-  if (fs::exists(dir, error)) {
-    old = SiblingPath(dir, "old");
-    fs::rename(dir, old, error);
-    if (error) {
-      const std::string message = error.message();
-      fs::remove_all(staging, error);
-      return Status::Error(dir_name + ": cannot replace: " + message);
-    }
-  }
-  fs::rename(staging, dir, error);
-  if (error) {
-    const std::string message = error.message();
-    if (!old.empty()) fs::rename(old, dir, error);
-    fs::remove_all(staging, error);
-    return Status::Error(dir_name + ": cannot rename into place: " + message);
-  }
-  if (!old.empty()) fs::remove_all(old, error);
-  return Status::Ok();
 }
 
 }  // namespace symba

@@ -1,4 +1,4 @@
-#include "symba/io/replay_output.h"
+#include "symba/replay/replay_output.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -7,6 +7,9 @@
 #include <string>
 
 #include <gtest/gtest.h>
+
+#include "symba/io/file_output.h"
+#include "symba/io/format_double.h"
 
 namespace symba {
 namespace {

@@ -1,0 +1,25 @@
+// Writing a set of output files as one directory that appears complete or
+// not at all (the outputs of `symba replay`, `symba simulate`, symba-bench).
+#ifndef SYMBA_IO_FILE_OUTPUT_H_
+#define SYMBA_IO_FILE_OUTPUT_H_
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "symba/common/status.h"
+
+namespace symba {
+
+// Writes `files` (name, content) into directory `dir` atomically: they are
+// written into a fresh sibling directory which is then renamed onto `dir`
+// (an existing `dir` is moved aside first and removed only after the rename
+// succeeded). On any failure nothing is left behind and an existing `dir` is
+// untouched. The parent of `dir` must exist.
+Status WriteDirectoryAtomically(
+    const std::string& dir,
+    const std::vector<std::pair<std::string, std::string>>& files);
+
+}  // namespace symba
+
+#endif  // SYMBA_IO_FILE_OUTPUT_H_

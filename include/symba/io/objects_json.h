@@ -1,0 +1,29 @@
+// objects.json, the map objects of a replay (log-format.md, "Outputs of a
+// replay"): its writer and its strict reader.
+//
+//   {"objects": [{id, class, symmetry, t, axis?, angles?, poses,
+//                 observations}]}
+//
+// axis only for symmetric objects, angles only for discrete ones; poses are
+// {"t": [x, y, z], "q": [qx, qy, qz, qw]}.
+#ifndef SYMBA_IO_OBJECTS_JSON_H_
+#define SYMBA_IO_OBJECTS_JSON_H_
+
+#include <string>
+#include <vector>
+
+#include "symba/backend/estimates.h"
+#include "symba/common/status.h"
+
+namespace symba {
+
+std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects);
+
+// Reads objects.json strictly: errors "PATH:LINE: invalid JSON: ..." or
+// "PATH: where: reason". axis_o is not in the file and stays zero.
+Status ReadObjectsJson(const std::string& path,
+                       std::vector<MapObjectEstimate>* objects);
+
+}  // namespace symba
+
+#endif  // SYMBA_IO_OBJECTS_JSON_H_

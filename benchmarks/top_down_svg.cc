@@ -289,24 +289,24 @@ std::string TopDownSvg(const GroundTruth& gt,
   // Legend.
   double y = kPlotTop + 10;
   const double x = kLegendLeft;
-  svg.Raw("<line x1=\"" + Num(x) + "\" y1=\"" + Num(y) + "\" x2=\"" +
-          Num(x + 30) + "\" y2=\"" + Num(y) + "\" stroke=\"" +
-          kGtTrajectoryColor +
-          "\" stroke-width=\"1.5\" stroke-dasharray=\"6 3\"/>\n");
-  svg.Text(x + 38, y + 4, "true keyframes", 12);
-  y += 22;
-  svg.Raw("<line x1=\"" + Num(x) + "\" y1=\"" + Num(y) + "\" x2=\"" +
-          Num(x + 30) + "\" y2=\"" + Num(y) + "\" stroke=\"" + color +
-          "\" stroke-width=\"2\"/>\n");
-  svg.Text(x + 38, y + 4, "estimated keyframes", 12);
-  y += 22;
-  if (!front_end.empty()) {
+  // One legend row: a line of the trajectory's style and its label.
+  auto line_entry = [&](const std::string& stroke,
+                        const std::string& style,
+                        const std::string& label) {
     svg.Raw("<line x1=\"" + Num(x) + "\" y1=\"" + Num(y) + "\" x2=\"" +
-            Num(x + 30) + "\" y2=\"" + Num(y) + "\" stroke=\"" +
-            kFrontEndColor +
-            "\" stroke-width=\"1.5\" stroke-dasharray=\"2 3\"/>\n");
-    svg.Text(x + 38, y + 4, "front end", 12);
+            Num(x + 30) + "\" y2=\"" + Num(y) + "\" stroke=\"" + stroke +
+            "\" " + style + "/>\n");
+    svg.Text(x + 38, y + 4, label, 12);
     y += 22;
+  };
+  line_entry(kGtTrajectoryColor,
+             "stroke-width=\"1.5\" stroke-dasharray=\"6 3\"",
+             "true keyframes");
+  line_entry(color, "stroke-width=\"2\"", "estimated keyframes");
+  if (!front_end.empty()) {
+    line_entry(kFrontEndColor,
+               "stroke-width=\"1.5\" stroke-dasharray=\"2 3\"",
+               "front end");
   }
   svg.GtMarker(x + 15, y);
   svg.Text(x + 38, y + 4, "ground-truth object", 12);

@@ -88,10 +88,7 @@ Status ReadGroundTruthObjectsJson(
     const Json& json = (*objects)[i];
     const std::string where = JsonReader::Index("objects", i);
     GroundTruthObject o;
-    status = r.Object(json, where);
-    if (status.ok()) status = r.Int(json, where, "id", &o.id);
-    if (status.ok()) status = r.String(json, where, "class", &o.class_name);
-    if (status.ok()) status = r.Symmetry(json, where, &o.symmetry);
+    status = r.ObjectIdentity(json, where, &o.id, &o.class_name, &o.symmetry);
     if (status.ok()) status = r.Int(json, where, "order", &o.order);
     if (!status.ok()) return status;
     if (!ids.insert(o.id).second) {

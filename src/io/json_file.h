@@ -115,6 +115,20 @@ class JsonReader {
     return Status::Ok();
   }
 
+  // What every entry of an "objects" array starts with: a JSON object with
+  // an integer "id", a string "class" and a "symmetry".
+  Status ObjectIdentity(const Json& json,
+                        const std::string& where,
+                        int* id,
+                        std::string* class_name,
+                        SymmetryType* symmetry) const {
+    Status status = Object(json, where);
+    if (status.ok()) status = Int(json, where, "id", id);
+    if (status.ok()) status = String(json, where, "class", class_name);
+    if (status.ok()) status = Symmetry(json, where, symmetry);
+    return status;
+  }
+
   // An array of exactly `n` finite numbers.
   Status Numbers(const Json& json,
                  const std::string& where,

@@ -68,10 +68,7 @@ Status ReadObjectsJson(const std::string& path,
     const Json& json = (*objects)[i];
     const std::string where = JsonReader::Index("objects", i);
     MapObjectEstimate o;
-    status = r.Object(json, where);
-    if (status.ok()) status = r.Int(json, where, "id", &o.id);
-    if (status.ok()) status = r.String(json, where, "class", &o.class_name);
-    if (status.ok()) status = r.Symmetry(json, where, &o.symmetry);
+    status = r.ObjectIdentity(json, where, &o.id, &o.class_name, &o.symmetry);
     if (status.ok()) status = r.Vector(json, where, "t", &o.t_wo);
     if (status.ok()) {
       status = r.Int(json, where, "observations", &o.observations);

@@ -46,7 +46,9 @@ Eigen::Vector3d TruePosition(const std::string& name) {
   return (camera.front().T_wc * object.front().T_wc).t;
 }
 
-TEST(BackendRealData, Ycbv0001KeepsTheCameraAndOneObjectPerBox) {
+class BackendRealData : public ::testing::TestWithParam<Method> {};
+
+TEST_P(BackendRealData, Ycbv0001KeepsTheCameraAndOneObjectPerBox) {
   TumImportOptions import;
   import.trajectory = kSequence + "orbslam3_T_wc.txt";
   import.first_pose = kSequence + "gt_T_wc.txt";
@@ -76,44 +78,48 @@ TEST(BackendRealData, Ycbv0001KeepsTheCameraAndOneObjectPerBox) {
       CompareTrajectories(frontend, "front end", gt, "gt", &frontend_error)
           .ok());
 
-  for (Method method :
-       {Method::kSymba, Method::kMultiHypothesis, Method::kSingleHypothesis}) {
-    SCOPED_TRACE(MethodName(method));
-    BackendOptions options;
-    options.method = method;
-    std::unique_ptr<Backend> backend;
-    ASSERT_NO_FATAL_FAILURE(
-        testing::ReplayWindowed(keyframes, options, std::nullopt, &backend));
-    std::vector<TrajectoryPose> estimate;
-    for (const KeyframeEstimate& k : backend->Keyframes()) {
-      estimate.push_back({k.timestamp, k.T_wc, 0});
-    }
-    TrajectoryError error;
-    ASSERT_TRUE(CompareTrajectories(estimate, "symba", gt, "gt", &error).ok());
-    const double ratio = error.position_rmse / frontend_error.position_rmse;
-    std::printf("[ 0001 ] %-5s ATE %.4f m, front end %.4f m, ratio %.3f\n",
-                MethodName(method),
-                error.position_rmse,
-                frontend_error.position_rmse,
-                ratio);
-    EXPECT_LT(ratio, 1.02);
-
-    std::map<std::string, std::vector<MapObjectEstimate>> by_class;
-    for (const MapObjectEstimate& object : backend->Objects()) {
-      by_class[object.class_name].push_back(object);
-    }
-    ASSERT_EQ(by_class["003_cracker_box"].size(), 1u);
-    ASSERT_EQ(by_class["004_sugar_box"].size(), 1u);
-    EXPECT_LT(
-        (by_class["003_cracker_box"][0].t_wo - TruePosition("003_cracker_box"))
-            .norm(),
-        0.10);
-    EXPECT_LT(
-        (by_class["004_sugar_box"][0].t_wo - TruePosition("004_sugar_box"))
-            .norm(),
-        0.04);
+  BackendOptions options;
+  options.method = GetParam();
+  std::unique_ptr<Backend> backend;
+  ASSERT_NO_FATAL_FAILURE(
+      testing::ReplayWindowed(keyframes, options, std::nullopt, &backend));
+  std::vector<TrajectoryPose> estimate;
+  for (const KeyframeEstimate& k : backend->Keyframes()) {
+    estimate.push_back({k.timestamp, k.T_wc, 0});
   }
+  TrajectoryError error;
+  ASSERT_TRUE(CompareTrajectories(estimate, "estimate", gt, "gt", &error).ok());
+  const double ratio = error.position_rmse / frontend_error.position_rmse;
+  std::printf("[ 0001 ] %-5s ATE %.4f m, front end %.4f m, ratio %.3f\n",
+              MethodName(options.method),
+              error.position_rmse,
+              frontend_error.position_rmse,
+              ratio);
+  EXPECT_LT(ratio, 1.02);
+
+  std::map<std::string, std::vector<MapObjectEstimate>> by_class;
+  for (const MapObjectEstimate& object : backend->Objects()) {
+    by_class[object.class_name].push_back(object);
+  }
+  ASSERT_EQ(by_class["003_cracker_box"].size(), 1u);
+  ASSERT_EQ(by_class["004_sugar_box"].size(), 1u);
+  EXPECT_LT(
+      (by_class["003_cracker_box"][0].t_wo - TruePosition("003_cracker_box"))
+          .norm(),
+      0.10);
+  EXPECT_LT((by_class["004_sugar_box"][0].t_wo - TruePosition("004_sugar_box"))
+                .norm(),
+            0.04);
 }
+
+INSTANTIATE_TEST_SUITE_P(Methods,
+                         BackendRealData,
+                         ::testing::Values(Method::kSymba,
+                                           Method::kMultiHypothesis,
+                                           Method::kSingleHypothesis),
+                         [](const ::testing::TestParamInfo<Method>& info) {
+                           return std::string(MethodName(info.param));
+                         });
 
 }  // namespace
 }  // namespace symba

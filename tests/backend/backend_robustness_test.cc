@@ -135,7 +135,9 @@ TEST(BackendRobustness, GrossOutliersLeaveMapAndCamerasUnchanged) {
 // x = 0.1 k looking along z with odometry between keyframes; `detections`
 // lists which keyframes see a "box" at (0.2, 0, 2) (its pose slightly off,
 // so a solve has something to do).
-std::vector<KeyframeInput> BoxKeyframes(int n, const std::vector<int>& seen) {
+std::vector<KeyframeInput> BoxKeyframes(int n,
+                                        const std::vector<int>& seen,
+                                        double step = 0.1) {
   std::vector<KeyframeInput> keyframes;
   const Rigid3d T_wo(Eigen::Quaterniond::Identity(),
                      Eigen::Vector3d(0.2, 0.0, 2.0));
@@ -144,14 +146,15 @@ std::vector<KeyframeInput> BoxKeyframes(int n, const std::vector<int>& seen) {
     kf.id = k;
     kf.timestamp = 0.1 * k;
     const Rigid3d T_wc(Eigen::Quaterniond::Identity(),
-                       Eigen::Vector3d(0.1 * k, 0.0, 0.0));
+                       Eigen::Vector3d(step * k, 0.0, 0.0));
     if (k == 0) {
       kf.T_wc = T_wc;
     } else {
       Odometry odometry;
-      odometry.T_prev_cur = Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(
-                                        0.002, Eigen::Vector3d::UnitY())),
-                                    Eigen::Vector3d(0.1, 0.001 * (k % 3), 0.0));
+      odometry.T_prev_cur =
+          Rigid3d(Eigen::Quaterniond(
+                      Eigen::AngleAxisd(0.002, Eigen::Vector3d::UnitY())),
+                  Eigen::Vector3d(step, 0.001 * (k % 3), 0.0));
       odometry.sigma_t = 0.01;
       odometry.sigma_r = 0.01;
       kf.odometry = odometry;
@@ -206,6 +209,35 @@ TEST(BackendRobustness, TentativeObjectsAreConfirmedOrDropped) {
     EXPECT_EQ(backend->Statistics().objects, 1);
     EXPECT_EQ(backend->Statistics().objects_dropped, 0);
   }
+}
+
+// An object confirmed by keyframes 0-4 of a camera that then stays put and
+// keeps the object in view, but never detects it again: after
+// min_support_views (20) views since its confirmation at keyframe 2 it was
+// detected in 3 of them, under min_support (20 %) from 16 views on, so it is
+// dropped at the 20th view, keyframe 21, with its detections.
+TEST(BackendRobustness, AnObjectNoLongerDetectedInViewIsDropped) {
+  BackendOptions options;
+  options.confirm_keyframes = 3;
+  std::unique_ptr<Backend> backend;
+  ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
+  const std::vector<KeyframeInput> keyframes =
+      BoxKeyframes(24, {0, 1, 2, 3, 4}, 0.0);
+  for (int k = 0; k < 24; ++k) {
+    ASSERT_TRUE(backend->AddKeyframe(keyframes[k]).ok());
+    ASSERT_TRUE(backend->OptimizeWindow().ok());
+    EXPECT_EQ(backend->Objects().size(), k >= 2 && k < 21 ? 1u : 0u) << k;
+  }
+  EXPECT_EQ(backend->Statistics().objects_dropped, 1);
+  EXPECT_EQ(backend->Statistics().objects, 0);
+  for (const DetectionAssignment& a : backend->Assignments()) {
+    EXPECT_EQ(a.object, -1) << a.detection;
+  }
+  // With min_support 0 it stays.
+  options.min_support = 0.0;
+  ASSERT_NO_FATAL_FAILURE(
+      testing::ReplayWindowed(keyframes, options, std::nullopt, &backend));
+  EXPECT_EQ(backend->Objects().size(), 1u);
 }
 
 TEST(BackendWindow, OlderKeyframesStayAndOldEdgesReenter) {

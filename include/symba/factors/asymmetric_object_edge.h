@@ -28,6 +28,7 @@
 #include "symba/factors/max_mixture.h"
 #include "symba/factors/pose_component.h"
 #include "symba/factors/pose_mixture.h"
+#include "symba/factors/pose_mixture_model.h"
 #include "symba/geometry/rigid3.h"
 
 namespace symba {
@@ -69,12 +70,10 @@ class AsymmetricComponentCost final
   PoseComponentResidual residual_;
 };
 
-class AsymmetricPoseModel {
+// The edge's model: T_oc = T_wo^-1 T_wc.
+class AsymmetricPoseModel final
+    : public PoseMixtureModel<AsymmetricComponentCost> {
  public:
-  static constexpr int kNumResiduals = 6;
-  static constexpr int kMixtureRows = 6;
-  using Prepared = Rigid3d;  // T_oc
-
   // One component's residual as a template (what AsymmetricComponentCost
   // evaluates; the tests autodiff it).
   struct ComponentFunctor {
@@ -92,35 +91,13 @@ class AsymmetricPoseModel {
   };
 
   explicit AsymmetricPoseModel(std::vector<PoseComponent> components)
-      : mixture_(std::move(components)) {
-    for (int j = 0; j < mixture_.size(); ++j) {
-      component_costs_.push_back(
-          std::make_unique<AsymmetricComponentCost>(mixture_.component(j)));
-    }
-  }
-
-  int NumComponents() const { return mixture_.size(); }
-  double Weight(int j) const { return mixture_.component(j).weight; }
-  double LogDetSqrtInfo(int j) const { return mixture_.LogDetSqrtInfo(j); }
+      : PoseMixtureModel(std::move(components)) {}
 
   bool Prepare(double const* const* parameters, Rigid3d* T_oc) const {
     *T_oc = CameraInObject(
         parameters[0], parameters[1], parameters[2], parameters[3]);
-    return T_oc->q.coeffs().allFinite() && T_oc->t.allFinite();
+    return IsFinite(*T_oc);
   }
-  double MixtureSquaredNorm(const Rigid3d& T_oc, int j) const {
-    return mixture_.SquaredNorm(j, T_oc);
-  }
-  double MixtureSquaredNormLowerBound(const Rigid3d& T_oc, int j) const {
-    return mixture_.SquaredNormLowerBound(j, T_oc);
-  }
-  const ceres::CostFunction& Component(int j) const {
-    return *component_costs_[j];
-  }
-
- private:
-  PoseMixture mixture_;
-  std::vector<std::unique_ptr<AsymmetricComponentCost>> component_costs_;
 };
 
 using AsymmetricObjectEdge =

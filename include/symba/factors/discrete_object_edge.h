@@ -40,6 +40,7 @@
 #include "symba/factors/max_mixture.h"
 #include "symba/factors/pose_component.h"
 #include "symba/factors/pose_mixture.h"
+#include "symba/factors/pose_mixture_model.h"
 #include "symba/geometry/rigid3.h"
 #include "symba/geometry/so3.h"
 #include "symba/geometry/swing_twist.h"
@@ -158,12 +159,10 @@ class DiscreteComponentCost final
   SymmetryAnchor anchor_;
 };
 
-class DiscretePoseModel {
+// The edge's model: T_oc from the camera, the object position, its axis and
+// its angle about the axis (CameraInSymmetricObject).
+class DiscretePoseModel final : public PoseMixtureModel<DiscreteComponentCost> {
  public:
-  static constexpr int kNumResiduals = 6;
-  static constexpr int kMixtureRows = 6;
-  using Prepared = Rigid3d;  // T_oc_i
-
   // One component's residual as a template (what DiscreteComponentCost
   // evaluates; the tests autodiff it).
   struct ComponentFunctor {
@@ -186,16 +185,7 @@ class DiscretePoseModel {
 
   DiscretePoseModel(std::vector<PoseComponent> components,
                     const SymmetryAnchor& anchor)
-      : mixture_(std::move(components)), anchor_(anchor) {
-    for (int j = 0; j < mixture_.size(); ++j) {
-      component_costs_.push_back(std::make_unique<DiscreteComponentCost>(
-          mixture_.component(j), anchor_));
-    }
-  }
-
-  int NumComponents() const { return mixture_.size(); }
-  double Weight(int j) const { return mixture_.component(j).weight; }
-  double LogDetSqrtInfo(int j) const { return mixture_.LogDetSqrtInfo(j); }
+      : PoseMixtureModel(std::move(components), anchor), anchor_(anchor) {}
 
   bool Prepare(double const* const* parameters, Rigid3d* T_oc) const {
     *T_oc = CameraInSymmetricObject(anchor_,
@@ -204,22 +194,11 @@ class DiscretePoseModel {
                                     parameters[2],
                                     parameters[3],
                                     parameters[4]);
-    return T_oc->q.coeffs().allFinite() && T_oc->t.allFinite();
-  }
-  double MixtureSquaredNorm(const Rigid3d& T_oc, int j) const {
-    return mixture_.SquaredNorm(j, T_oc);
-  }
-  double MixtureSquaredNormLowerBound(const Rigid3d& T_oc, int j) const {
-    return mixture_.SquaredNormLowerBound(j, T_oc);
-  }
-  const ceres::CostFunction& Component(int j) const {
-    return *component_costs_[j];
+    return IsFinite(*T_oc);
   }
 
  private:
-  PoseMixture mixture_;
   SymmetryAnchor anchor_;
-  std::vector<std::unique_ptr<DiscreteComponentCost>> component_costs_;
 };
 
 using DiscreteObjectEdge =

@@ -33,7 +33,8 @@
 // exceeds the computed norm, and rounding is monotone). Evaluate allocates
 // nothing.
 //
-// A Model provides (see asymmetric_object_edge.h for an example):
+// A Model provides (see pose_mixture_model.h and asymmetric_object_edge.h
+// for an example):
 //   static constexpr int kNumResiduals;  rows of one component
 //   static constexpr int kMixtureRows;   leading rows that differ per component
 //   struct Prepared;                     per-evaluation shared doubles

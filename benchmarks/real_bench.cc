@@ -34,9 +34,9 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 
 #include "bench_report.h"
+#include "io/json_writer.h"
 #include "symba/backend/backend_options.h"
 #include "symba/evaluation/evaluate.h"
 #include "symba/evaluation/trajectory_error.h"
@@ -535,44 +535,55 @@ symba::GroundTruth PictureTruth(const Sequence& s) {
 std::string Json(const Flags& flags,
                  const std::vector<Sequence>& sequences,
                  const std::vector<std::vector<Run>>& runs) {
-  const auto number = [](double v) {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-  };
-  nlohmann::json json = {{"stride", kStride},
-                         {"odometry_sigma_t", kOdometrySigmaT},
-                         {"odometry_sigma_r", kOdometrySigmaR},
-                         {"sequences", nlohmann::json::array()}};
+  using symba::io_internal::JsonWriter;
+  std::string out;
+  JsonWriter json(&out, JsonWriter::kWrapEverything);
+  json.BeginObject()
+      .Member("stride", kStride)
+      .Member("odometry_sigma_t", kOdometrySigmaT)
+      .Member("odometry_sigma_r", kOdometrySigmaR)
+      .Key("sequences")
+      .BeginArray();
   for (std::size_t i = 0; i < sequences.size(); ++i) {
     const Sequence& s = sequences[i];
-    nlohmann::json seq = {{"sequence", s.name},
-                          {"keyframes", s.keyframes},
-                          {"detections", s.detections},
-                          {"front_end_ate", number(s.front_end_ate)},
-                          {"objects", nlohmann::json::array()},
-                          {"methods", nlohmann::json::object()}};
+    json.BeginObject()
+        .Member("sequence", s.name)
+        .Member("keyframes", s.keyframes)
+        .Member("detections", s.detections)
+        .Member("front_end_ate", s.front_end_ate)
+        .Key("objects")
+        .BeginArray();
     for (const RealObject& o : s.objects) {
-      seq["objects"].push_back(
-          {{"class", o.name},
-           {"t_wo", {o.T_wo.t.x(), o.T_wo.t.y(), o.T_wo.t.z()}},
-           {"detections", o.detections},
-           {"naive_gt_camera_error", number(o.naive_gt_error)},
-           {"naive_front_end_camera_error", number(o.naive_front_end_error)}});
+      json.BeginObject().Member("class", o.name);
+      json.Key("t_wo").Doubles(o.T_wo.t.data(), 3);
+      json.Member("detections", o.detections)
+          .Member("naive_gt_camera_error", o.naive_gt_error)
+          .Member("naive_front_end_camera_error", o.naive_front_end_error)
+          .EndObject();
     }
+    json.EndArray().Key("methods").BeginObject();
     for (std::size_t m = 0; m < flags.methods.size(); ++m) {
       const Run& r = runs[m][i];
-      nlohmann::json errors = nlohmann::json::array();
-      for (double e : r.object_errors) errors.push_back(number(e));
-      seq["methods"][flags.methods[m]] = {
-          {"ate", number(r.ate)},
-          {"ate_ratio", number(r.ratio)},
-          {"map_objects", r.map_objects},
-          {"object_errors", errors},
-          {"upgrades", r.upgrades},
-          {"ms_per_keyframe", r.ms_per_keyframe}};
+      json.Key(flags.methods[m])
+          .BeginObject()
+          .Member("ate", r.ate)
+          .Member("ate_ratio", r.ratio)
+          .Key("map_objects")
+          .BeginArray();
+      for (const int count : r.map_objects) json.Int(count);
+      json.EndArray()
+          .Key("object_errors")
+          .Doubles(r.object_errors.data(),
+                   static_cast<int>(r.object_errors.size()))
+          .Member("upgrades", r.upgrades)
+          .Member("ms_per_keyframe", r.ms_per_keyframe)
+          .EndObject();
     }
-    json["sequences"].push_back(seq);
+    json.EndObject().EndObject();
   }
-  return json.dump(2) + "\n";
+  json.EndArray().EndObject();
+  out.push_back('\n');
+  return out;
 }
 
 std::string Markdown(const Flags& flags,

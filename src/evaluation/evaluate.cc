@@ -15,9 +15,9 @@
 #include <utility>
 
 #include <Eigen/Geometry>
-#include <nlohmann/json.hpp>
 
 #include "io/json_file.h"
+#include "io/json_writer.h"
 #include "io/text_file.h"
 #include "symba/geometry/angle.h"
 #include "symba/io/format_double.h"
@@ -39,8 +39,7 @@ using internal::ReadObjectsArray;
 using internal::ReadText;
 using internal::SplitLines;
 
-using Json = nlohmann::json;
-using OrderedJson = nlohmann::ordered_json;
+using io_internal::JsonWriter;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kRadToDeg = 180.0 / kPi;
@@ -181,8 +180,33 @@ std::string Percent(int correct, int total) {
          "/" + std::to_string(total) + ")";
 }
 
-OrderedJson Number(double value) {
-  return std::isfinite(value) ? OrderedJson(value) : OrderedJson(nullptr);
+// One entry of the report's "objects"; NaN errors are written as null.
+void ObjectJson(const ObjectEvaluation& o, JsonWriter* json) {
+  json->BeginObject()
+      .Member("gt_id", o.gt_id)
+      .Member("class", o.class_name)
+      .Member("symmetry", ToString(o.symmetry))
+      .Member("order", o.order)
+      .Member("detections", o.detections)
+      .Member("rejected", o.rejected)
+      .Member("map_objects", o.map_objects);
+  json->Key("detections_per_map_object").BeginObject();
+  for (const auto& [id, count] : o.detections_per_map_object) {
+    json->Member(std::to_string(id), count);
+  }
+  json->EndObject().Key("main_object");
+  if (o.main_object >= 0) {
+    json->Int(o.main_object);
+    json->Member("main_object_symmetry", ToString(o.main_object_symmetry));
+  } else {
+    json->Null().Key("main_object_symmetry").Null();
+  }
+  json->Member("translation_error", o.translation_error)
+      .Member("axis_error_deg", o.axis_error_deg)
+      .Member("rotation_error_deg", o.rotation_error_deg)
+      .Member("categorized_correctly", o.categorized_correctly)
+      .Member("categorization_accuracy", o.categorization_accuracy)
+      .EndObject();
 }
 
 }  // namespace
@@ -419,53 +443,31 @@ std::string FormatEvaluationTable(const Evaluation& e) {
 }
 
 std::string FormatEvaluationJson(const Evaluation& e) {
-  OrderedJson objects = OrderedJson::array();
-  for (const ObjectEvaluation& o : e.objects) {
-    OrderedJson per_map_object = OrderedJson::object();
-    for (const auto& [id, count] : o.detections_per_map_object) {
-      per_map_object[std::to_string(id)] = count;
-    }
-    objects.push_back(OrderedJson{
-        {"gt_id", o.gt_id},
-        {"class", o.class_name},
-        {"symmetry", ToString(o.symmetry)},
-        {"order", o.order},
-        {"detections", o.detections},
-        {"rejected", o.rejected},
-        {"map_objects", o.map_objects},
-        {"detections_per_map_object", std::move(per_map_object)},
-        {"main_object",
-         o.main_object >= 0 ? OrderedJson(o.main_object) : OrderedJson()},
-        {"main_object_symmetry",
-         o.main_object >= 0 ? OrderedJson(ToString(o.main_object_symmetry))
-                            : OrderedJson()},
-        {"translation_error", Number(o.translation_error)},
-        {"axis_error_deg", Number(o.axis_error_deg)},
-        {"rotation_error_deg", Number(o.rotation_error_deg)},
-        {"categorized_correctly", o.categorized_correctly},
-        {"categorization_accuracy", Number(o.categorization_accuracy)}});
-  }
-  OrderedJson confusion = OrderedJson::object();
+  std::string out;
+  JsonWriter json(&out, JsonWriter::kWrapEverything);
+  json.BeginObject()
+      .Member("keyframes", e.keyframes)
+      .Member("position_rmse", e.position_rmse)
+      .Member("rotation_rmse_deg", e.rotation_rmse_deg)
+      .Member("max_position_error", e.max_position_error)
+      .Member("map_objects", e.map_objects)
+      .Member("max_fragmentation", e.MaxFragmentation())
+      .Member("detections", e.detections)
+      .Member("categorized_correctly", e.categorized_correctly)
+      .Member("categorization_accuracy", e.categorization_accuracy);
+  json.Key("confusion").BeginObject();
   for (int g = 0; g < 3; ++g) {
-    OrderedJson row = OrderedJson::object();
+    json.Key(ToString(static_cast<SymmetryType>(g))).BeginObject();
     for (int c = 0; c < 3; ++c) {
-      row[ToString(static_cast<SymmetryType>(c))] = e.confusion[g][c];
+      json.Member(ToString(static_cast<SymmetryType>(c)), e.confusion[g][c]);
     }
-    confusion[ToString(static_cast<SymmetryType>(g))] = std::move(row);
+    json.EndObject();
   }
-  const OrderedJson json{
-      {"keyframes", e.keyframes},
-      {"position_rmse", Number(e.position_rmse)},
-      {"rotation_rmse_deg", Number(e.rotation_rmse_deg)},
-      {"max_position_error", Number(e.max_position_error)},
-      {"map_objects", e.map_objects},
-      {"max_fragmentation", e.MaxFragmentation()},
-      {"detections", e.detections},
-      {"categorized_correctly", e.categorized_correctly},
-      {"categorization_accuracy", Number(e.categorization_accuracy)},
-      {"confusion", std::move(confusion)},
-      {"objects", std::move(objects)}};
-  return json.dump(2) + "\n";
+  json.EndObject().Key("objects").BeginArray();
+  for (const ObjectEvaluation& o : e.objects) ObjectJson(o, &json);
+  json.EndArray().EndObject();
+  out.push_back('\n');
+  return out;
 }
 
 }  // namespace symba

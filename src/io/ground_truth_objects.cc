@@ -6,8 +6,7 @@
 #include <utility>
 
 #include "io/json_file.h"
-#include "io/json_text.h"
-#include "symba/io/format_double.h"
+#include "io/json_writer.h"
 
 namespace symba {
 namespace {
@@ -15,62 +14,43 @@ namespace {
 using internal::Json;
 using internal::JsonReader;
 using internal::Quoted;
-using io_internal::AppendJsonString;
+using io_internal::JsonWriter;
 
 // gt_objects.json: "axis" must be pose.q * "axis_o" to this (unit vectors).
 constexpr double kAxisConsistency = 1e-3;
 
-void AppendNumbers(const double* values, int count, std::string* out) {
-  out->push_back('[');
-  for (int i = 0; i < count; ++i) {
-    if (i > 0) out->append(", ");
-    AppendDouble(values[i], out);
-  }
-  out->push_back(']');
-}
-
-void AppendVector(const Eigen::Vector3d& v, std::string* out) {
-  AppendNumbers(v.data(), 3, out);
-}
-
 }  // namespace
 
+// Each object and each detection on a line of its own.
 std::string FormatGroundTruthObjectsJson(
     const std::vector<GroundTruthObject>& objects,
     const std::vector<std::pair<std::string, int>>& detections) {
-  std::string out = "{\"objects\": [";
-  for (size_t i = 0; i < objects.size(); ++i) {
-    const GroundTruthObject& o = objects[i];
-    out.append(i == 0 ? "\n  " : ",\n  ");
-    out.append("{\"id\": " + std::to_string(o.id) + ", \"class\": ");
-    AppendJsonString(o.class_name, &out);
-    out.append(", \"symmetry\": ");
-    AppendJsonString(ToString(o.symmetry), &out);
-    out.append(", \"order\": " + std::to_string(o.order));
-    const Eigen::Quaterniond& q = o.T_wo.q;
+  std::string out;
+  JsonWriter json(&out, /*wrap_depth=*/2);
+  json.BeginObject().Key("objects").BeginArray();
+  for (const GroundTruthObject& o : objects) {
+    json.BeginObject()
+        .Member("id", o.id)
+        .Member("class", o.class_name)
+        .Member("symmetry", ToString(o.symmetry))
+        .Member("order", o.order);
     if (o.symmetry != SymmetryType::kAsymmetric) {
-      out.append(", \"axis_o\": ");
-      AppendVector(o.axis_o, &out);
-      out.append(", \"axis\": ");
-      AppendVector(o.axis_w, &out);
+      json.Key("axis_o").Doubles(o.axis_o.data(), 3);
+      json.Key("axis").Doubles(o.axis_w.data(), 3);
     }
-    out.append(", \"pose\": {\"t\": ");
-    AppendVector(o.T_wo.t, &out);
-    out.append(", \"q\": ");
+    const Eigen::Quaterniond& q = o.T_wo.q;
     const double coeffs[4] = {q.x(), q.y(), q.z(), q.w()};
-    AppendNumbers(coeffs, 4, &out);
-    out.append("}}");
+    json.Key("pose").BeginObject();
+    json.Key("t").Doubles(o.T_wo.t.data(), 3);
+    json.Key("q").Doubles(coeffs, 4);
+    json.EndObject().EndObject();
   }
-  out.append(objects.empty() ? "],\n" : "\n],\n");
-  out.append("\"detections\": {");
-  bool first = true;
+  json.EndArray().Key("detections").BeginObject();
   for (const auto& [detection, object] : detections) {
-    out.append(first ? "\n  " : ",\n  ");
-    first = false;
-    AppendJsonString(detection, &out);
-    out.append(": " + std::to_string(object));
+    json.Member(detection, object);
   }
-  out.append(first ? "}}\n" : "\n}}\n");
+  json.EndObject().EndObject();
+  out.push_back('\n');
   return out;
 }
 

@@ -15,10 +15,11 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 
-#include "io/json_text.h"
 #include "io/json_tree.h"
+#include "io/json_writer.h"
 #include "io/text_file.h"
 #include "symba/categorization/symmetry_type.h"
+#include "symba/io/format_double.h"
 #include "symba/io/log_format.h"
 
 namespace symba {

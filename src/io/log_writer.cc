@@ -9,17 +9,17 @@
 #include <string_view>
 #include <utility>
 
-#include "io/json_text.h"
+#include "io/json_writer.h"
 #include "io/text_file.h"
 #include "symba/categorization/symmetry_type.h"
+#include "symba/io/format_double.h"
 #include "symba/io/log_format.h"
 
 namespace symba {
 namespace {
 
 using internal::Approx;
-using io_internal::AppendJsonDouble;
-using io_internal::AppendJsonString;
+using io_internal::JsonWriter;
 
 // Well-formed UTF-8 (no overlong forms, surrogates or code points above
 // U+10FFFF), as the reader's JSON parser requires.
@@ -83,19 +83,17 @@ Status CheckPositive(double value, const std::string& path, Fail fail) {
   return Status::Ok();
 }
 
-void AppendPose(const Rigid3d& pose, std::string* out) {
-  out->append("{\"t\":[");
-  for (int k = 0; k < 3; ++k) {
-    if (k > 0) out->push_back(',');
-    AppendJsonDouble(pose.t[k], out);
-  }
-  out->append("],\"q\":[");
+// The members of a pose object: "t":[x,y,z],"q":[qx,qy,qz,qw].
+void PoseMembers(const Rigid3d& pose, JsonWriter* json) {
   const double q[4] = {pose.q.x(), pose.q.y(), pose.q.z(), pose.q.w()};
-  for (int k = 0; k < 4; ++k) {
-    if (k > 0) out->push_back(',');
-    AppendJsonDouble(q[k], out);
-  }
-  out->append("]}");
+  json->Key("t").Doubles(pose.t.data(), 3);
+  json->Key("q").Doubles(q, 4);
+}
+
+void Pose(const Rigid3d& pose, JsonWriter* json) {
+  json->BeginObject();
+  PoseMembers(pose, json);
+  json->EndObject();
 }
 
 }  // namespace
@@ -122,8 +120,11 @@ class LogWriter::Impl {
                            std::to_string(kLogFormatVersion) + ")");
     }
     has_camera_ = header.camera.has_value();
-    line_.assign("{\"format\":\"symba-log\",\"version\":");
-    line_.append(std::to_string(kLogFormatVersion));
+    line_.clear();
+    JsonWriter json(&line_);
+    json.BeginObject()
+        .Member("format", "symba-log")
+        .Member("version", kLogFormatVersion);
     if (header.camera) {
       const PinholeIntrinsics& camera = *header.camera;
       Status status = CheckPositive(camera.fx, "camera.fx", fail);
@@ -132,19 +133,16 @@ class LogWriter::Impl {
       if (!std::isfinite(camera.cx) || !std::isfinite(camera.cy)) {
         return fail("camera", "non-finite number");
       }
-      line_.append(",\"camera\":{\"fx\":");
-      AppendJsonDouble(camera.fx, &line_);
-      line_.append(",\"fy\":");
-      AppendJsonDouble(camera.fy, &line_);
-      line_.append(",\"cx\":");
-      AppendJsonDouble(camera.cx, &line_);
-      line_.append(",\"cy\":");
-      AppendJsonDouble(camera.cy, &line_);
-      line_.push_back('}');
+      json.Key("camera")
+          .BeginObject()
+          .Member("fx", camera.fx)
+          .Member("fy", camera.fy)
+          .Member("cx", camera.cx)
+          .Member("cy", camera.cy)
+          .EndObject();
     }
     if (!header.classes.empty()) {
-      line_.append(",\"classes\":{");
-      bool first = true;
+      json.Key("classes").BeginObject();
       for (const auto& [name, prior] : header.classes) {
         const std::string path = "classes." + name;
         if (!IsUtf8(name)) return fail(path, "class name is not UTF-8");
@@ -165,27 +163,16 @@ class LogWriter::Impl {
           return fail(path + ".axis",
                       "an asymmetric class has no symmetry axis");
         }
-        if (!first) line_.push_back(',');
-        first = false;
-        AppendJsonString(name, &line_);
-        line_.append(":{\"symmetry\":");
-        AppendJsonString(ToString(prior.symmetry), &line_);
-        if (discrete) {
-          line_.append(",\"order\":").append(std::to_string(prior.order));
-        }
-        if (has_axis) {
-          line_.append(",\"axis\":[");
-          for (int k = 0; k < 3; ++k) {
-            if (k > 0) line_.push_back(',');
-            AppendJsonDouble(prior.axis_o[k], &line_);
-          }
-          line_.push_back(']');
-        }
-        line_.push_back('}');
+        json.Key(name).BeginObject().Member("symmetry",
+                                            ToString(prior.symmetry));
+        if (discrete) json.Member("order", prior.order);
+        if (has_axis) json.Key("axis").Doubles(prior.axis_o.data(), 3);
+        json.EndObject();
       }
-      line_.push_back('}');
+      json.EndObject();
     }
-    line_.append("}\n");
+    json.EndObject();
+    line_.push_back('\n');
     return Emit();
   }
 
@@ -312,85 +299,61 @@ class LogWriter::Impl {
   }
 
   void Format(const KeyframeInput& keyframe) {
-    line_.assign("{\"keyframe\":");
-    line_.append(std::to_string(keyframe.id));
-    line_.append(",\"t\":");
-    AppendJsonDouble(keyframe.timestamp, &line_);
+    line_.clear();
+    JsonWriter json(&line_);
+    json.BeginObject()
+        .Member("keyframe", keyframe.id)
+        .Member("t", keyframe.timestamp);
     if (keyframe.T_wc) {
-      line_.append(",\"T_wc\":");
-      AppendPose(*keyframe.T_wc, &line_);
+      json.Key("T_wc");
+      Pose(*keyframe.T_wc, &json);
     }
     if (keyframe.odometry) {
-      line_.append(",\"odometry\":{\"T\":");
-      AppendPose(keyframe.odometry->T_prev_cur, &line_);
-      line_.append(",\"sigma_t\":");
-      AppendJsonDouble(keyframe.odometry->sigma_t, &line_);
-      line_.append(",\"sigma_r\":");
-      AppendJsonDouble(keyframe.odometry->sigma_r, &line_);
-      line_.push_back('}');
+      json.Key("odometry").BeginObject().Key("T");
+      Pose(keyframe.odometry->T_prev_cur, &json);
+      json.Member("sigma_t", keyframe.odometry->sigma_t)
+          .Member("sigma_r", keyframe.odometry->sigma_r)
+          .EndObject();
     }
     if (!keyframe.detections.empty()) {
-      line_.append(",\"detections\":[");
-      for (std::size_t d = 0; d < keyframe.detections.size(); ++d) {
-        const DetectionInput& detection = keyframe.detections[d];
-        if (d > 0) line_.push_back(',');
-        line_.push_back('{');
-        if (!detection.id.empty()) {
-          line_.append("\"id\":");
-          AppendJsonString(detection.id, &line_);
-          line_.push_back(',');
-        }
-        line_.append("\"class\":");
-        AppendJsonString(detection.class_name, &line_);
-        if (detection.score != 1.0) {
-          line_.append(",\"score\":");
-          AppendJsonDouble(detection.score, &line_);
-        }
-        if (detection.sigma_t) {
-          line_.append(",\"sigma_t\":");
-          AppendJsonDouble(*detection.sigma_t, &line_);
-        }
-        if (detection.sigma_r) {
-          line_.append(",\"sigma_r\":");
-          AppendJsonDouble(*detection.sigma_r, &line_);
-        }
-        line_.append(",\"hypotheses\":[");
-        for (std::size_t h = 0; h < detection.hypotheses.size(); ++h) {
-          const PoseHypothesis& hypothesis = detection.hypotheses[h];
-          if (h > 0) line_.push_back(',');
-          AppendPose(hypothesis.T_co, &line_);
-          if (hypothesis.weight != 1.0) {
-            line_.pop_back();  // the pose's '}'
-            line_.append(",\"w\":");
-            AppendJsonDouble(hypothesis.weight, &line_);
-            line_.push_back('}');
-          }
-        }
-        line_.append("]}");
+      json.Key("detections").BeginArray();
+      for (const DetectionInput& detection : keyframe.detections) {
+        FormatDetection(detection, &json);
       }
-      line_.push_back(']');
+      json.EndArray();
     }
     if (!keyframe.points.empty()) {
-      line_.append(",\"points\":[");
-      for (std::size_t p = 0; p < keyframe.points.size(); ++p) {
-        const PointObservation& point = keyframe.points[p];
-        if (p > 0) line_.push_back(',');
-        line_.append("{\"id\":");
-        line_.append(std::to_string(point.id));
-        line_.append(",\"uv\":[");
-        AppendJsonDouble(point.uv.x(), &line_);
-        line_.push_back(',');
-        AppendJsonDouble(point.uv.y(), &line_);
-        line_.push_back(']');
-        if (point.depth) {
-          line_.append(",\"depth\":");
-          AppendJsonDouble(*point.depth, &line_);
-        }
-        line_.push_back('}');
+      json.Key("points").BeginArray();
+      for (const PointObservation& point : keyframe.points) {
+        json.BeginObject().Member("id", point.id);
+        json.Key("uv").Doubles(point.uv.data(), 2);
+        if (point.depth) json.Member("depth", *point.depth);
+        json.EndObject();
       }
-      line_.push_back(']');
+      json.EndArray();
     }
-    line_.append("}\n");
+    json.EndObject();
+    line_.push_back('\n');
+  }
+
+  // Optional members are left out at their defaults (no id, score 1, no
+  // claimed sigma, weight 1).
+  static void FormatDetection(const DetectionInput& detection,
+                              JsonWriter* json) {
+    json->BeginObject();
+    if (!detection.id.empty()) json->Member("id", detection.id);
+    json->Member("class", detection.class_name);
+    if (detection.score != 1.0) json->Member("score", detection.score);
+    if (detection.sigma_t) json->Member("sigma_t", *detection.sigma_t);
+    if (detection.sigma_r) json->Member("sigma_r", *detection.sigma_r);
+    json->Key("hypotheses").BeginArray();
+    for (const PoseHypothesis& hypothesis : detection.hypotheses) {
+      json->BeginObject();
+      PoseMembers(hypothesis.T_co, json);
+      if (hypothesis.weight != 1.0) json->Member("w", hypothesis.weight);
+      json->EndObject();
+    }
+    json->EndArray().EndObject();
   }
 
   std::unique_ptr<std::ofstream> file_;  // null when writing to a stream

@@ -5,54 +5,64 @@
 #include <set>
 #include <utility>
 
-#include <nlohmann/json.hpp>
-
 #include "io/json_file.h"
+#include "io/json_writer.h"
 
 namespace symba {
 namespace {
 
 using internal::Json;
 using internal::JsonReader;
-using OrderedJson = nlohmann::ordered_json;
+using io_internal::JsonWriter;
 
-OrderedJson Vector(const Eigen::Vector3d& v) {
-  return OrderedJson::array({v.x(), v.y(), v.z()});
+void Pose(const Rigid3d& T, JsonWriter* json) {
+  const Eigen::Quaterniond q = T.q.normalized();
+  const double coeffs[4] = {q.x(), q.y(), q.z(), q.w()};
+  json->BeginObject();
+  json->Key("t").Doubles(T.t.data(), 3);
+  json->Key("q").Doubles(coeffs, 4);
+  json->EndObject();
 }
 
-OrderedJson Pose(const Rigid3d& T) {
-  const Eigen::Quaterniond q = T.q.normalized();
-  return OrderedJson{{"t", Vector(T.t)},
-                     {"q", OrderedJson::array({q.x(), q.y(), q.z(), q.w()})}};
+void MapObject(const MapObjectEstimate& o, JsonWriter* json) {
+  json->BeginObject()
+      .Member("id", o.id)
+      .Member("class", o.class_name)
+      .Member("symmetry", ToString(o.symmetry));
+  json->Key("t").Doubles(o.t_wo.data(), 3);
+  if (o.symmetry != SymmetryType::kAsymmetric) {
+    json->Key("axis").Doubles(o.axis_w.data(), 3);
+  }
+  if (o.symmetry == SymmetryType::kDiscrete) {
+    json->Key("angles").Doubles(o.angles.data(),
+                                static_cast<int>(o.angles.size()));
+  }
+  json->Key("poses").BeginArray();
+  for (const Rigid3d& pose : o.poses) Pose(pose, json);
+  json->EndArray().Member("observations", o.observations);
+  if (o.upgrade) {
+    // An asymmetric object that became symmetric, and on what evidence.
+    json->Key("upgrade")
+        .BeginObject()
+        .Member("keyframe", o.upgrade->keyframe)
+        .Member("evidence", o.upgrade->evidence)
+        .Member("order", o.upgrade->order)
+        .Member("angle", o.upgrade->angle)
+        .EndObject();
+  }
+  json->EndObject();
 }
 
 }  // namespace
 
 std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects) {
-  OrderedJson list = OrderedJson::array();
-  for (const MapObjectEstimate& o : objects) {
-    OrderedJson object{{"id", o.id},
-                       {"class", o.class_name},
-                       {"symmetry", ToString(o.symmetry)},
-                       {"t", Vector(o.t_wo)}};
-    if (o.symmetry != SymmetryType::kAsymmetric) {
-      object["axis"] = Vector(o.axis_w);
-    }
-    if (o.symmetry == SymmetryType::kDiscrete) object["angles"] = o.angles;
-    OrderedJson poses = OrderedJson::array();
-    for (const Rigid3d& pose : o.poses) poses.push_back(Pose(pose));
-    object["poses"] = std::move(poses);
-    object["observations"] = o.observations;
-    if (o.upgrade) {
-      // An asymmetric object that became symmetric, and on what evidence.
-      object["upgrade"] = OrderedJson{{"keyframe", o.upgrade->keyframe},
-                                      {"evidence", o.upgrade->evidence},
-                                      {"order", o.upgrade->order},
-                                      {"angle", o.upgrade->angle}};
-    }
-    list.push_back(std::move(object));
-  }
-  return OrderedJson{{"objects", std::move(list)}}.dump(2) + "\n";
+  std::string out;
+  JsonWriter json(&out, JsonWriter::kWrapEverything);
+  json.BeginObject().Key("objects").BeginArray();
+  for (const MapObjectEstimate& o : objects) MapObject(o, &json);
+  json.EndArray().EndObject();
+  out.push_back('\n');
+  return out;
 }
 
 Status ReadObjectsJson(const std::string& path,

@@ -1,11 +1,11 @@
 #include "symba/replay/replay_output.h"
 
-#include <nlohmann/json.hpp>
+#include "io/json_writer.h"
 
 namespace symba {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using io_internal::JsonWriter;
 
 std::string QuoteCsv(const std::string& field) {
   if (field.find_first_of(",\"\n\r") == std::string::npos) return field;
@@ -40,66 +40,83 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
   }
   const double ms_per_keyframe =
       s.keyframes > 0 ? 1e3 * result.seconds / s.keyframes : 0.0;
-  Json counts{{"keyframes", s.keyframes},
-              {"detections", s.detections},
-              {"objects", s.objects},
-              {"objects_by_symmetry",
-               {{"asymmetric", by_type[0]},
-                {"discrete", by_type[1]},
-                {"continuous", by_type[2]}}},
-              {"points", s.points},
-              {"object_upgrades", s.object_upgrades},
-              {"objects_dropped", s.objects_dropped},
-              {"rotation_outliers", s.rotation_outliers}};
-  Json timing{{"seconds", result.seconds},
-              {"solve_seconds", s.solve_seconds},
-              {"ms_per_keyframe", ms_per_keyframe}};
-  Json last{{"iterations", result.last_solve.iterations},
-            {"initial_cost", result.last_solve.initial_cost},
-            {"final_cost", result.last_solve.final_cost},
-            {"converged", result.last_solve.converged},
-            {"free_keyframes", result.last_solve.free_keyframes},
-            {"residual_blocks", result.last_solve.residual_blocks}};
-  Json solver{{"solves", s.solves},
-              {"iterations", s.solve_iterations},
-              {"last", std::move(last)}};
-  Json used{{"window", b.window_size},
-            {"max_iterations", b.max_iterations},
-            {"batch_max_iterations", b.batch_max_iterations},
-            {"threads", b.num_threads},
-            {"hypothesis_sigma_t", b.hypothesis_sigma_t},
-            {"hypothesis_sigma_r", b.hypothesis_sigma_r},
-            {"gamma", b.gamma},
-            {"axis_sigma", b.axis_sigma},
-            {"object_loss", LossName(b.object_loss)},
-            {"object_loss_scale", b.object_loss_scale},
-            {"null_hypothesis", b.mixture.use_null_hypothesis},
-            {"frontend_sigma_t", b.frontend_sigma_t},
-            {"frontend_sigma_r", b.frontend_sigma_r},
-            {"point_sigma_px", b.point_sigma_px},
-            {"point_depth_sigma_relative", b.point_depth_sigma_relative},
-            {"gate_position", b.gate_position},
-            {"gate_axis", b.gate_axis},
-            {"gate_rotation", b.gate_rotation},
-            {"gate_angle", b.gate_angle},
-            {"confirm_keyframes", b.confirm_keyframes},
-            {"tentative_timeout", b.tentative_timeout},
-            {"gate_sigmas", b.gate_sigmas},
-            {"estimate_noise", b.estimate_noise},
-            {"uncalibrated_sigma_t", b.uncalibrated_sigma_t},
-            {"uncalibrated_sigma_r", b.uncalibrated_sigma_r},
-            {"min_support", b.min_support},
-            {"upgrade_evidence", b.upgrade_evidence},
-            {"upgrade_min_fraction", b.upgrade_min_fraction},
-            {"max_upgrade_order", b.max_upgrade_order}};
-  Json summary{{"log", log_path},
-               {"method", MethodName(b.method)},
-               {"mode", ReplayModeName(options.mode)},
-               {"counts", std::move(counts)},
-               {"timing", std::move(timing)},
-               {"solver", std::move(solver)},
-               {"options", std::move(used)}};
-  return summary.dump(2) + "\n";
+  std::string out;
+  JsonWriter json(&out, JsonWriter::kWrapEverything);
+  json.BeginObject()
+      .Member("log", log_path)
+      .Member("method", MethodName(b.method))
+      .Member("mode", ReplayModeName(options.mode));
+  json.Key("counts")
+      .BeginObject()
+      .Member("keyframes", s.keyframes)
+      .Member("detections", s.detections)
+      .Member("objects", s.objects)
+      .Key("objects_by_symmetry")
+      .BeginObject()
+      .Member("asymmetric", by_type[0])
+      .Member("discrete", by_type[1])
+      .Member("continuous", by_type[2])
+      .EndObject()
+      .Member("points", s.points)
+      .Member("object_upgrades", s.object_upgrades)
+      .Member("objects_dropped", s.objects_dropped)
+      .Member("rotation_outliers", s.rotation_outliers)
+      .EndObject();
+  json.Key("timing")
+      .BeginObject()
+      .Member("seconds", result.seconds)
+      .Member("solve_seconds", s.solve_seconds)
+      .Member("ms_per_keyframe", ms_per_keyframe)
+      .EndObject();
+  json.Key("solver")
+      .BeginObject()
+      .Member("solves", s.solves)
+      .Member("iterations", s.solve_iterations)
+      .Key("last")
+      .BeginObject()
+      .Member("iterations", result.last_solve.iterations)
+      .Member("initial_cost", result.last_solve.initial_cost)
+      .Member("final_cost", result.last_solve.final_cost)
+      .Member("converged", result.last_solve.converged)
+      .Member("free_keyframes", result.last_solve.free_keyframes)
+      .Member("residual_blocks", result.last_solve.residual_blocks)
+      .EndObject()
+      .EndObject();
+  json.Key("options")
+      .BeginObject()
+      .Member("window", b.window_size)
+      .Member("max_iterations", b.max_iterations)
+      .Member("batch_max_iterations", b.batch_max_iterations)
+      .Member("threads", b.num_threads)
+      .Member("hypothesis_sigma_t", b.hypothesis_sigma_t)
+      .Member("hypothesis_sigma_r", b.hypothesis_sigma_r)
+      .Member("gamma", b.gamma)
+      .Member("axis_sigma", b.axis_sigma)
+      .Member("object_loss", LossName(b.object_loss))
+      .Member("object_loss_scale", b.object_loss_scale)
+      .Member("null_hypothesis", b.mixture.use_null_hypothesis)
+      .Member("frontend_sigma_t", b.frontend_sigma_t)
+      .Member("frontend_sigma_r", b.frontend_sigma_r)
+      .Member("point_sigma_px", b.point_sigma_px)
+      .Member("point_depth_sigma_relative", b.point_depth_sigma_relative)
+      .Member("gate_position", b.gate_position)
+      .Member("gate_axis", b.gate_axis)
+      .Member("gate_rotation", b.gate_rotation)
+      .Member("gate_angle", b.gate_angle)
+      .Member("confirm_keyframes", b.confirm_keyframes)
+      .Member("tentative_timeout", b.tentative_timeout)
+      .Member("gate_sigmas", b.gate_sigmas)
+      .Member("estimate_noise", b.estimate_noise)
+      .Member("uncalibrated_sigma_t", b.uncalibrated_sigma_t)
+      .Member("uncalibrated_sigma_r", b.uncalibrated_sigma_r)
+      .Member("min_support", b.min_support)
+      .Member("upgrade_evidence", b.upgrade_evidence)
+      .Member("upgrade_min_fraction", b.upgrade_min_fraction)
+      .Member("max_upgrade_order", b.max_upgrade_order)
+      .EndObject();
+  json.EndObject();
+  out.push_back('\n');
+  return out;
 }
 
 std::vector<std::pair<std::string, std::string>> ReplayOutputFiles(
@@ -120,18 +137,23 @@ std::vector<std::pair<std::string, std::string>> PoseGraphOutputFiles(
   for (const auto& [timestamp, T_w] : PoseGraphTrajectory(graph)) {
     poses.push_back({static_cast<int64_t>(timestamp), timestamp, T_w});
   }
-  Json json{{"input", graph_path},
-            {"kind", "g2o pose graph"},
-            {"vertices", summary.num_vertices},
-            {"edges", summary.num_edges},
-            {"initial_cost", summary.initial_cost},
-            {"final_cost", summary.final_cost},
-            {"iterations", summary.iterations},
-            {"converged", summary.converged},
-            {"seconds", summary.seconds},
-            {"message", summary.message}};
+  std::string json_text;
+  JsonWriter json(&json_text, JsonWriter::kWrapEverything);
+  json.BeginObject()
+      .Member("input", graph_path)
+      .Member("kind", "g2o pose graph")
+      .Member("vertices", summary.num_vertices)
+      .Member("edges", summary.num_edges)
+      .Member("initial_cost", summary.initial_cost)
+      .Member("final_cost", summary.final_cost)
+      .Member("iterations", summary.iterations)
+      .Member("converged", summary.converged)
+      .Member("seconds", summary.seconds)
+      .Member("message", summary.message)
+      .EndObject();
+  json_text.push_back('\n');
   return {{"trajectory.tum", FormatTumTrajectory(poses)},
-          {"summary.json", json.dump(2) + "\n"}};
+          {"summary.json", std::move(json_text)}};
 }
 
 }  // namespace symba

@@ -27,9 +27,9 @@ if(NOT n EQUAL 73)
   message(FATAL_ERROR "log.jsonl has ${n} lines, expected a header and 72")
 endif()
 file(READ ${out}/gt_objects.json gt)
-if(NOT gt MATCHES "^{\"objects\": \\[" OR
+if(NOT gt MATCHES "^{\n  \"objects\": \\[\n    {\"id\": 0, " OR
    NOT gt MATCHES "\"class\": \"table\", \"symmetry\": \"discrete\", \"order\": 2" OR
-   NOT gt MATCHES "\"detections\": {\n  \"[0-9]+/0\": 0")
+   NOT gt MATCHES "\"detections\": {\n    \"[0-9]+/0\": 0,\n")
   message(FATAL_ERROR "gt_objects.json: unexpected content: ${gt}")
 endif()
 

@@ -16,7 +16,6 @@
 
 #include <Eigen/Geometry>
 
-#include "io/json_file.h"
 #include "io/json_writer.h"
 #include "io/text_file.h"
 #include "symba/geometry/angle.h"
@@ -31,11 +30,9 @@ namespace {
 using internal::Approx;
 using internal::At;
 using internal::IsBlank;
-using internal::JsonReader;
 using internal::ParseDouble;
 using internal::ParseInteger;
 using internal::Quoted;
-using internal::ReadObjectsArray;
 using internal::ReadText;
 using internal::SplitLines;
 

@@ -5,19 +5,55 @@
 #include <set>
 #include <utility>
 
-#include "io/json_file.h"
+#include "io/json_tree_reader.h"
 #include "io/json_writer.h"
 
 namespace symba {
 namespace {
 
-using internal::Json;
-using internal::JsonReader;
-using internal::Quoted;
+using io_internal::JsonPath;
+using io_internal::JsonTree;
+using io_internal::JsonTreeReader;
+using io_internal::JsonType;
 using io_internal::JsonWriter;
 
 // gt_objects.json: "axis" must be pose.q * "axis_o" to this (unit vectors).
 constexpr double kAxisConsistency = 1e-3;
+
+// One entry of "objects" (its id is checked for duplicates by the caller).
+Status GroundTruthObjectAt(const JsonTreeReader& r,
+                           JsonTree::Index e,
+                           const JsonPath& where,
+                           GroundTruthObject* o) {
+  Status status = io_internal::ObjectIdentity(
+      r, e, where, &o->id, &o->class_name, &o->symmetry);
+  JsonTree::Index member = 0;
+  if (status.ok()) status = r.Require(e, where, "order", "", &member);
+  if (status.ok()) status = r.Int(member, where.Member("order"), &o->order);
+  if (!status.ok()) return status;
+  const bool discrete = o->symmetry == SymmetryType::kDiscrete;
+  if (discrete ? o->order < 2 : o->order != 0) {
+    return r.Fail(where.Member("order"),
+                  discrete ? "a discrete object needs an order of at least 2"
+                           : "must be 0 for an object that is not discrete");
+  }
+  status = r.Require(e, where, "pose", "", &member);
+  if (status.ok()) status = r.Pose(member, where.Member("pose"), &o->T_wo);
+  if (!status.ok() || o->symmetry == SymmetryType::kAsymmetric) return status;
+  status = r.Require(e, where, "axis_o", "", &member);
+  if (status.ok()) {
+    status = r.UnitVector(member, where.Member("axis_o"), &o->axis_o);
+  }
+  if (status.ok()) status = r.Require(e, where, "axis", "", &member);
+  if (status.ok()) {
+    status = r.UnitVector(member, where.Member("axis"), &o->axis_w);
+  }
+  if (!status.ok()) return status;
+  if ((o->T_wo.q * o->axis_o - o->axis_w).norm() > kAxisConsistency) {
+    return r.Fail(where.Member("axis"), "is not pose.q * axis_o");
+  }
+  return Status::Ok();
+}
 
 }  // namespace
 
@@ -58,65 +94,44 @@ Status ReadGroundTruthObjectsJson(
     const std::string& path,
     std::vector<GroundTruthObject>* result,
     std::map<std::string, int>* detection_objects) {
-  Json root;
-  const Json* objects = nullptr;
-  Status status = internal::ReadObjectsArray(path, &root, &objects);
+  JsonTree tree;
+  Status status = io_internal::ReadJsonFile(path, &tree);
   if (!status.ok()) return status;
-  const JsonReader r(path);
+  const JsonTreeReader r(path, 0, tree);
+  JsonTree::Index objects = 0;
+  status = io_internal::ObjectsArray(r, &objects);
+  if (!status.ok()) return status;
+  const JsonPath root;
+  const JsonPath objects_path = root.Member("objects");
   std::set<int> ids;
-  for (std::size_t i = 0; i < objects->size(); ++i) {
-    const Json& json = (*objects)[i];
-    const std::string where = JsonReader::Index("objects", i);
+  int i = 0;
+  for (JsonTree::Index e = tree.node(objects).first; e != 0;
+       e = tree.node(e).next, ++i) {
     GroundTruthObject o;
-    status = r.ObjectIdentity(json, where, &o.id, &o.class_name, &o.symmetry);
-    if (status.ok()) status = r.Int(json, where, "order", &o.order);
+    const JsonPath where = objects_path.Element(i);
+    status = GroundTruthObjectAt(r, e, where, &o);
     if (!status.ok()) return status;
     if (!ids.insert(o.id).second) {
-      return r.Error(JsonReader::Sub(where, "id"),
-                     "duplicate id " + std::to_string(o.id));
-    }
-    if (o.symmetry == SymmetryType::kDiscrete ? o.order < 2 : o.order != 0) {
-      return r.Error(JsonReader::Sub(where, "order"),
-                     o.symmetry == SymmetryType::kDiscrete
-                         ? "a discrete object needs an order of at least 2"
-                         : "must be 0 for an object that is not discrete");
-    }
-    const Json* pose = nullptr;
-    status = r.Member(json, where, "pose", &pose);
-    if (status.ok()) {
-      status = r.Pose(*pose, JsonReader::Sub(where, "pose"), &o.T_wo);
-    }
-    if (!status.ok()) return status;
-    if (o.symmetry != SymmetryType::kAsymmetric) {
-      status = r.UnitVector(json, where, "axis_o", &o.axis_o);
-      if (status.ok()) status = r.UnitVector(json, where, "axis", &o.axis_w);
-      if (!status.ok()) return status;
-      if ((o.T_wo.q * o.axis_o - o.axis_w).norm() > kAxisConsistency) {
-        return r.Error(JsonReader::Sub(where, "axis"),
-                       "is not pose.q * axis_o");
-      }
+      return r.Fail(where.Member("id"), "duplicate id " + std::to_string(o.id));
     }
     result->push_back(std::move(o));
   }
-  const Json* detections = nullptr;
-  status = r.Member(root, "top level", "detections", &detections);
+  JsonTree::Index detections = 0;
+  status = r.Require(0, root, "detections", "", &detections);
+  const JsonPath detections_path = root.Member("detections");
+  if (status.ok()) status = r.Object(detections, detections_path);
   if (!status.ok()) return status;
-  if (!detections->is_object()) {
-    return r.Error("detections", "expected a JSON object");
-  }
-  for (const auto& [id, value] : detections->items()) {
-    const std::string where = "detections[" + Quoted(id) + "]";
-    if (!value.is_number_integer()) {
-      return r.Error(where, "expected an integer (a ground-truth object id)");
+  for (JsonTree::Index e = tree.node(detections).first; e != 0;
+       e = tree.node(e).next) {
+    const JsonPath where = detections_path.QuotedMember(tree.Key(e));
+    int object = 0;
+    status = r.Int(e, where, &object);
+    if (!status.ok()) return status;
+    if (ids.count(object) == 0) {
+      return r.Fail(where,
+                    "object " + std::to_string(object) + " is not in objects");
     }
-    const int64_t object = value.get<int64_t>();
-    if (object < std::numeric_limits<int>::min() ||
-        object > std::numeric_limits<int>::max() ||
-        ids.count(static_cast<int>(object)) == 0) {
-      return r.Error(where,
-                     "object " + std::to_string(object) + " is not in objects");
-    }
-    (*detection_objects)[id] = static_cast<int>(object);
+    (*detection_objects)[std::string(tree.Key(e))] = object;
   }
   return Status::Ok();
 }

@@ -355,6 +355,7 @@ class TreeSax final : public nlohmann::json_sax<nlohmann::json> {
     failed_ = true;
     const std::string what = Printable(ex.what());
     error_->column = position;
+    error_->offset = position;
     if (ex.id == 406) {
       // out_of_range.406: a number that overflows a double.
       error_->message =

@@ -100,7 +100,8 @@ class JsonTree {
 
 // How a JSON text failed to parse.
 struct JsonError {
-  std::size_t column = 0;  // 1-based byte column of the problem
+  std::size_t column = 0;  // 1-based byte column of the problem in its line
+  std::size_t offset = 0;  // bytes of the text read when parsing stopped
   std::string message;     // e.g. "syntax error while parsing value - ..."
 };
 

@@ -13,10 +13,9 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <Eigen/SVD>
 
 #include "io/json_tree.h"
-#include "io/json_writer.h"
+#include "io/json_tree_reader.h"
 #include "io/text_file.h"
 #include "symba/categorization/symmetry_type.h"
 #include "symba/io/format_double.h"
@@ -25,287 +24,19 @@
 namespace symba {
 namespace {
 
-using internal::Approx;
 using io_internal::JsonError;
 using io_internal::JsonTree;
 using io_internal::JsonType;
 using Index = JsonTree::Index;
 
-constexpr double kUnitTolerance = 1e-3;
-// A quaternion whose squared norm is this close to 1 is already unit to
-// machine precision and is kept bit for bit.
-constexpr double kExactlyUnit = 8.0 * std::numeric_limits<double>::epsilon();
-
 constexpr char kHeaderExample[] =
     "{\"format\": \"symba-log\", \"version\": 1, ...}";
 
-// Where a value sits in the line's JSON, e.g. detections[0].hypotheses[2].q.
-// Paths live on the stack and are only spelled out for an error message.
-struct Path {
-  const Path* parent = nullptr;
-  std::string_view key;  // member name, when index < 0
-  int64_t index = -1;    // array element
-
-  Path Member(std::string_view name) const { return Path{this, name, -1}; }
-  Path Element(int64_t i) const { return Path{this, {}, i}; }
-  bool IsRoot() const { return parent == nullptr; }
-
-  void Append(std::string* out) const {
-    if (parent == nullptr) return;
-    parent->Append(out);
-    if (index >= 0) {
-      out->append("[").append(std::to_string(index)).append("]");
-    } else {
-      if (!parent->IsRoot()) out->push_back('.');
-      out->append(key);
-    }
-  }
-};
-
-// A string value for a message: quoted, control bytes escaped, long ones cut.
-std::string Quote(std::string_view text) {
-  constexpr std::size_t kMax = 40;
-  const bool cut = text.size() > kMax;
-  std::string out;
-  io_internal::AppendJsonString(cut ? text.substr(0, kMax) : text, &out);
-  if (cut) out.insert(out.size() - 1, "...");
-  return out;
-}
-
 // Validates and converts the JSON of one line; every error names the file,
-// the line and the path.
-class LineReader {
- public:
-  LineReader(const std::string& name, int line, const JsonTree& tree)
-      : name_(name), line_(line), tree_(tree) {}
-
-  Status Fail(const Path& path, std::string_view what) const {
-    std::string message = name_ + ":" + std::to_string(line_) + ": ";
-    if (!path.IsRoot()) {
-      path.Append(&message);
-      message.append(": ");
-    }
-    message.append(what);
-    return Status::Error(std::move(message));
-  }
-
-  JsonType Type(Index i) const { return tree_.node(i).type; }
-  Index Find(Index object, std::string_view key) const {
-    return tree_.Find(object, key);
-  }
-  const JsonTree& tree() const { return tree_; }
-
-  // "a string", "an array", "1.5", ... for "expected X, got Y".
-  std::string Describe(Index i) const {
-    const JsonTree::Node& node = tree_.node(i);
-    switch (node.type) {
-      case JsonType::kNull:
-        return "null";
-      case JsonType::kFalse:
-        return "false";
-      case JsonType::kTrue:
-        return "true";
-      case JsonType::kInteger:
-        return std::to_string(node.integer);
-      case JsonType::kUnsigned:
-        return std::to_string(node.unsigned_integer);
-      case JsonType::kFloat:
-        return FormatDouble(node.number);
-      case JsonType::kString:
-        return "the string " + Quote(tree_.String(i));
-      case JsonType::kArray:
-        return "an array";
-      case JsonType::kObject:
-        return "an object";
-    }
-    return "?";
-  }
-
-  Status Object(Index i, const Path& path) const {
-    if (Type(i) == JsonType::kObject) return Status::Ok();
-    return Fail(path, "expected an object, got " + Describe(i));
-  }
-
-  Status Array(Index i, const Path& path) const {
-    if (Type(i) == JsonType::kArray) return Status::Ok();
-    return Fail(path, "expected an array, got " + Describe(i));
-  }
-
-  Status Number(Index i, const Path& path, double* out) const {
-    const JsonTree::Node& node = tree_.node(i);
-    switch (node.type) {
-      case JsonType::kInteger:
-        *out = static_cast<double>(node.integer);
-        break;
-      case JsonType::kUnsigned:
-        *out = static_cast<double>(node.unsigned_integer);
-        break;
-      case JsonType::kFloat:
-        *out = node.number;
-        break;
-      default:
-        return Fail(path, "expected a number, got " + Describe(i));
-    }
-    // JSON has no literal for them and the parser refuses overflow, so this
-    // only guards the invariant.
-    if (!std::isfinite(*out)) return Fail(path, "number is not finite");
-    return Status::Ok();
-  }
-
-  Status Positive(Index i, const Path& path, double* out) const {
-    Status status = Number(i, path, out);
-    if (!status.ok()) return status;
-    if (!(*out > 0.0))
-      return Fail(path, "must be positive, got " + Describe(i));
-    return Status::Ok();
-  }
-
-  // A JSON integer, or a number with zero fractional part, in int64 range.
-  Status Integer(Index i, const Path& path, int64_t* out) const {
-    const JsonTree::Node& node = tree_.node(i);
-    switch (node.type) {
-      case JsonType::kInteger:
-        *out = node.integer;
-        return Status::Ok();
-      case JsonType::kUnsigned:
-        if (node.unsigned_integer >
-            static_cast<uint64_t>(std::numeric_limits<int64_t>::max())) {
-          return Fail(path, "integer " + Describe(i) + " is out of range");
-        }
-        *out = static_cast<int64_t>(node.unsigned_integer);
-        return Status::Ok();
-      case JsonType::kFloat: {
-        const double value = node.number;
-        if (std::floor(value) != value) {
-          return Fail(path, "expected an integer, got " + Describe(i));
-        }
-        // [-2^63, 2^63): exactly the doubles that convert to int64.
-        if (!(value >= -9223372036854775808.0 &&
-              value < 9223372036854775808.0)) {
-          return Fail(path, "integer " + Describe(i) + " is out of range");
-        }
-        *out = static_cast<int64_t>(value);
-        return Status::Ok();
-      }
-      default:
-        return Fail(path, "expected an integer, got " + Describe(i));
-    }
-  }
-
-  Status String(Index i, const Path& path, std::string_view* out) const {
-    if (Type(i) != JsonType::kString) {
-      return Fail(path, "expected a string, got " + Describe(i));
-    }
-    *out = tree_.String(i);
-    return Status::Ok();
-  }
-
-  Status Require(Index object,
-                 const Path& path,
-                 std::string_view key,
-                 std::string_view hint,
-                 Index* out) const {
-    *out = Find(object, key);
-    if (*out != 0) return Status::Ok();
-    std::string what = "missing";
-    if (!hint.empty()) what.append(" (").append(hint).append(")");
-    return Fail(path.Member(key), what);
-  }
-
-  // An array of exactly n numbers.
-  Status Numbers(Index i, const Path& path, int n, double* out) const {
-    const JsonTree::Node& node = tree_.node(i);
-    if (node.type != JsonType::kArray ||
-        node.size != static_cast<uint32_t>(n)) {
-      std::string what =
-          "expected an array of " + std::to_string(n) + " numbers, got ";
-      if (node.type == JsonType::kArray) {
-        what += std::to_string(node.size) +
-                (node.size == 1 ? " element" : " elements");
-      } else {
-        what += Describe(i);
-      }
-      return Fail(path, what);
-    }
-    int k = 0;
-    for (Index e = node.first; e != 0; e = tree_.node(e).next, ++k) {
-      Status status = Number(e, path.Element(k), &out[k]);
-      if (!status.ok()) return status;
-    }
-    return Status::Ok();
-  }
-
-  // {"t": [x, y, z], "q": [qx, qy, qz, qw]} or {"t": [...], "R": [9]}.
-  Status Pose(Index i, const Path& path, Rigid3d* pose) const {
-    Status status = Object(i, path);
-    if (!status.ok()) return status;
-    Index t = 0;
-    status = Require(i, path, "t", "the translation [x, y, z]", &t);
-    if (!status.ok()) return status;
-    status = Numbers(t, path.Member("t"), 3, pose->t.data());
-    if (!status.ok()) return status;
-    const Index q = Find(i, "q");
-    const Index r = Find(i, "R");
-    if (q != 0 && r != 0) {
-      return Fail(path, "has both q and R; give one rotation");
-    }
-    if (q == 0 && r == 0) {
-      return Fail(path,
-                  "has neither q [qx, qy, qz, qw] nor R (row-major 3 x 3); "
-                  "one of them is required");
-    }
-    if (q != 0) {
-      const Path q_path = path.Member("q");
-      double v[4];
-      status = Numbers(q, q_path, 4, v);
-      if (!status.ok()) return status;
-      pose->q = Eigen::Quaterniond(v[3], v[0], v[1], v[2]);  // w, x, y, z
-      return Normalize(q_path, &pose->q);
-    }
-    const Path r_path = path.Member("R");
-    double v[9];
-    status = Numbers(r, r_path, 9, v);
-    if (!status.ok()) return status;
-    const Eigen::Matrix3d R =
-        Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(v);
-    const double deviation =
-        (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-    if (!(deviation <= kUnitTolerance)) {
-      return Fail(r_path,
-                  "not a rotation: R^T R differs from the identity by " +
-                      Approx(deviation) + " (more than 1e-3)");
-    }
-    const double det = R.determinant();
-    if (!(det > 0.0)) {
-      return Fail(
-          r_path,
-          "not a rotation: det(R) = " + Approx(det) + " is not positive");
-    }
-    // The nearest rotation in the Frobenius norm: U V^T.
-    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(
-        R, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    const Eigen::Matrix3d R_projected =
-        svd.matrixU() * svd.matrixV().transpose();
-    pose->q = Eigen::Quaterniond(R_projected);
-    return Normalize(r_path, &pose->q);
-  }
-
-  Status Normalize(const Path& path, Eigen::Quaterniond* q) const {
-    const double squared_norm = q->squaredNorm();
-    const double norm = std::sqrt(squared_norm);
-    if (!(std::abs(norm - 1.0) <= kUnitTolerance)) {
-      return Fail(
-          path, "quaternion norm " + Approx(norm) + " is not within 1e-3 of 1");
-    }
-    if (std::abs(squared_norm - 1.0) > kExactlyUnit) q->coeffs() /= norm;
-    return Status::Ok();
-  }
-
- private:
-  const std::string& name_;
-  int line_;
-  const JsonTree& tree_;
-};
+// the line and the path (io/json_tree_reader.h).
+using LineReader = io_internal::JsonTreeReader;
+using Path = io_internal::JsonPath;
+using io_internal::QuoteForMessage;
 
 Status ReadHeader(const LineReader& in, LogHeader* header) {
   const Path root;
@@ -395,7 +126,7 @@ Status ReadHeader(const LineReader& in, LogHeader* header) {
       const std::optional<SymmetryType> type = ParseSymmetryType(symmetry_name);
       if (!type) {
         return in.Fail(class_path.Member("symmetry"),
-                       "unknown symmetry " + Quote(symmetry_name) +
+                       "unknown symmetry " + QuoteForMessage(symmetry_name) +
                            " (expected \"asymmetric\", \"discrete\" or "
                            "\"continuous\")");
       }

@@ -5,15 +5,19 @@
 #include <set>
 #include <utility>
 
-#include "io/json_file.h"
+#include "io/json_tree_reader.h"
 #include "io/json_writer.h"
 
 namespace symba {
 namespace {
 
-using internal::Json;
-using internal::JsonReader;
+using io_internal::JsonPath;
+using io_internal::JsonTree;
+using io_internal::JsonTreeReader;
 using io_internal::JsonWriter;
+using io_internal::ObjectIdentity;
+using io_internal::ObjectsArray;
+using io_internal::ReadJsonFile;
 
 void Pose(const Rigid3d& T, JsonWriter* json) {
   const Eigen::Quaterniond q = T.q.normalized();
@@ -53,6 +57,50 @@ void MapObject(const MapObjectEstimate& o, JsonWriter* json) {
   json->EndObject();
 }
 
+// "angles": an array of numbers (a discrete object's theta_i).
+Status Angles(const JsonTreeReader& r,
+              JsonTree::Index object,
+              const JsonPath& where,
+              std::vector<double>* angles) {
+  JsonTree::Index array = 0;
+  const JsonPath path = where.Member("angles");
+  Status status = r.Require(object, where, "angles", "", &array);
+  if (status.ok()) status = r.Array(array, path);
+  int k = 0;
+  for (JsonTree::Index e = status.ok() ? r.tree().node(array).first : 0; e != 0;
+       e = r.tree().node(e).next, ++k) {
+    double angle = 0.0;
+    status = r.Number(e, path.Element(k), &angle);
+    if (!status.ok()) return status;
+    angles->push_back(angle);
+  }
+  return status;
+}
+
+// "poses": a non-empty array of poses.
+Status Poses(const JsonTreeReader& r,
+             JsonTree::Index object,
+             const JsonPath& where,
+             std::vector<Rigid3d>* poses) {
+  JsonTree::Index array = 0;
+  const JsonPath path = where.Member("poses");
+  Status status = r.Require(object, where, "poses", "", &array);
+  if (status.ok()) status = r.Array(array, path);
+  if (!status.ok()) return status;
+  if (r.tree().node(array).size == 0) {
+    return r.Fail(path, "expected a non-empty array of poses");
+  }
+  int k = 0;
+  for (JsonTree::Index e = r.tree().node(array).first; e != 0;
+       e = r.tree().node(e).next, ++k) {
+    Rigid3d T;
+    status = r.Pose(e, path.Element(k), &T);
+    if (!status.ok()) return status;
+    poses->push_back(T);
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects) {
@@ -67,59 +115,45 @@ std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects) {
 
 Status ReadObjectsJson(const std::string& path,
                        std::vector<MapObjectEstimate>* result) {
-  Json root;
-  const Json* objects = nullptr;
-  Status status = internal::ReadObjectsArray(path, &root, &objects);
+  JsonTree tree;
+  Status status = ReadJsonFile(path, &tree);
   if (!status.ok()) return status;
-  const JsonReader r(path);
+  const JsonTreeReader r(path, 0, tree);
+  const JsonPath root;
+  JsonTree::Index objects = 0;
+  status = ObjectsArray(r, &objects);
+  if (!status.ok()) return status;
+  const JsonPath objects_path = root.Member("objects");
   std::set<int> ids;
   result->clear();
-  for (std::size_t i = 0; i < objects->size(); ++i) {
-    const Json& json = (*objects)[i];
-    const std::string where = JsonReader::Index("objects", i);
+  int i = 0;
+  for (JsonTree::Index e = tree.node(objects).first; e != 0;
+       e = tree.node(e).next, ++i) {
+    const JsonPath where = objects_path.Element(i);
     MapObjectEstimate o;
-    status = r.ObjectIdentity(json, where, &o.id, &o.class_name, &o.symmetry);
-    if (status.ok()) status = r.Vector(json, where, "t", &o.t_wo);
-    if (status.ok()) {
-      status = r.Int(json, where, "observations", &o.observations);
-    }
+    status = ObjectIdentity(r, e, where, &o.id, &o.class_name, &o.symmetry);
     if (!status.ok()) return status;
     if (!ids.insert(o.id).second) {
-      return r.Error(JsonReader::Sub(where, "id"),
-                     "duplicate id " + std::to_string(o.id));
+      return r.Fail(where.Member("id"), "duplicate id " + std::to_string(o.id));
     }
-    if (o.symmetry != SymmetryType::kAsymmetric) {
-      status = r.UnitVector(json, where, "axis", &o.axis_w);
-      if (!status.ok()) return status;
+    JsonTree::Index member = 0;
+    status = r.Require(e, where, "t", "", &member);
+    if (status.ok())
+      status = r.Numbers(member, where.Member("t"), 3, o.t_wo.data());
+    if (status.ok()) status = r.Require(e, where, "observations", "", &member);
+    if (status.ok()) {
+      status = r.Int(member, where.Member("observations"), &o.observations);
     }
-    if (o.symmetry == SymmetryType::kDiscrete) {
-      const Json* angles = nullptr;
-      status = r.Member(json, where, "angles", &angles);
-      if (!status.ok()) return status;
-      const std::string angles_where = JsonReader::Sub(where, "angles");
-      if (!angles->is_array()) {
-        return r.Error(angles_where, "expected an array of numbers");
-      }
-      for (const Json& angle : *angles) {
-        if (!angle.is_number() || !std::isfinite(angle.get<double>())) {
-          return r.Error(angles_where, "expected an array of finite numbers");
-        }
-        o.angles.push_back(angle.get<double>());
-      }
+    if (status.ok() && o.symmetry != SymmetryType::kAsymmetric) {
+      status = r.Require(e, where, "axis", "", &member);
+      if (status.ok())
+        status = r.UnitVector(member, where.Member("axis"), &o.axis_w);
     }
-    const Json* poses = nullptr;
-    status = r.Member(json, where, "poses", &poses);
+    if (status.ok() && o.symmetry == SymmetryType::kDiscrete) {
+      status = Angles(r, e, where, &o.angles);
+    }
+    if (status.ok()) status = Poses(r, e, where, &o.poses);
     if (!status.ok()) return status;
-    const std::string poses_where = JsonReader::Sub(where, "poses");
-    if (!poses->is_array() || poses->empty()) {
-      return r.Error(poses_where, "expected a non-empty array of poses");
-    }
-    for (std::size_t k = 0; k < poses->size(); ++k) {
-      Rigid3d T;
-      status = r.Pose((*poses)[k], JsonReader::Index(poses_where, k), &T);
-      if (!status.ok()) return status;
-      o.poses.push_back(T);
-    }
     result->push_back(std::move(o));
   }
   return Status::Ok();

@@ -1,5 +1,6 @@
 #include "io/json_writer.h"
 
+#include <charconv>
 #include <cmath>
 #include <string>
 
@@ -18,23 +19,26 @@ void AppendJsonDouble(double value, std::string* out) {
 void AppendJsonString(std::string_view text, std::string* out) {
   static constexpr char kHex[] = "0123456789abcdef";
   out->push_back('"');
-  for (const char ch : text) {
-    const unsigned char c = static_cast<unsigned char>(ch);
+  std::size_t plain = 0;  // start of the bytes not yet copied
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c >= 0x20 && c != '"' && c != '\\') continue;
+    out->append(text.data() + plain, i - plain);
+    plain = i + 1;
     if (c == '"' || c == '\\') {
       out->push_back('\\');
-      out->push_back(ch);
+      out->push_back(static_cast<char>(c));
     } else if (c == '\n') {
       out->append("\\n");
     } else if (c == '\t') {
       out->append("\\t");
-    } else if (c < 0x20) {
+    } else {
       out->append("\\u00");
       out->push_back(kHex[c >> 4]);
       out->push_back(kHex[c & 15]);
-    } else {
-      out->push_back(ch);
     }
   }
+  out->append(text.data() + plain, text.size() - plain);
   out->push_back('"');
 }
 
@@ -99,7 +103,9 @@ JsonWriter& JsonWriter::Double(double value) {
 
 JsonWriter& JsonWriter::Int(int64_t value) {
   BeforeElement();
-  out_->append(std::to_string(value));
+  char buffer[24];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  out_->append(buffer, result.ptr);
   wrote_value_ = true;
   return *this;
 }

@@ -50,7 +50,9 @@ Backend::Impl::Impl(const BackendOptions& options,
       class_priors_(class_priors),
       object_loss_(MakeLoss(options.object_loss, options.object_loss_scale)),
       point_loss_(std::make_unique<ceres::HuberLoss>(options.point_loss_scale)),
-      noise_(options.noise_window, options.noise_min_samples) {}
+      noise_(options.noise_window, options.noise_min_samples) {
+  marginalization_.min_winner_margin = options.marginalize_min_margin;
+}
 
 int Backend::Impl::WindowStart() const {
   return std::max(0,
@@ -60,7 +62,9 @@ int Backend::Impl::WindowStart() const {
 // ---------------------------------------------------------------------------
 // Keyframes.
 
-Status Backend::Impl::AddKeyframe(const KeyframeInput& input) {
+Status Backend::Impl::AddKeyframe(
+    const KeyframeInput& input,
+    std::vector<DetectionAssignment>* assignments) {
   std::optional<internal::PreviousKeyframe> previous;
   if (!keyframes_.empty()) {
     previous = internal::PreviousKeyframe{keyframes_.back()->id,
@@ -73,6 +77,7 @@ Status Backend::Impl::AddKeyframe(const KeyframeInput& input) {
   if (!status.ok()) return status;
 
   // Nothing below can fail: the keyframe is added whole.
+  const size_t first_assignment = assignments_.size();
   auto kf = std::make_unique<KeyframeState>();
   kf->id = input.id;
   kf->timestamp = input.timestamp;
@@ -104,6 +109,10 @@ Status Backend::Impl::AddKeyframe(const KeyframeInput& input) {
     classes.erase(std::unique(classes.begin(), classes.end()), classes.end());
     UpdateDetectionNoise(classes);
   }
+  if (assignments != nullptr) {
+    assignments->assign(assignments_.begin() + first_assignment,
+                        assignments_.end());
+  }
   return Status::Ok();
 }
 
@@ -112,10 +121,13 @@ Status Backend::Impl::AddKeyframe(const KeyframeInput& input) {
 
 int Backend::Impl::AddFactor(FactorRecord record) {
   SYMBA_CHECK(record.cost != nullptr) << "a factor without a cost function";
+  // A rebuilt edge of a keyframe that left the window serves the batch
+  // solve only.
+  record.marginalized = options_.window_policy != WindowPolicy::kCondition &&
+                        record.keyframe < marginalized_until_;
   const int f = problem_.size();
   keyframes_[record.keyframe]->factors.push_back(f);
   if (record.keyframe2 >= 0) keyframes_[record.keyframe2]->factors.push_back(f);
-  if (record.object >= 0) objects_[record.object]->factors.push_back(f);
   if (record.point >= 0) points_[record.point]->factors.push_back(f);
   problem_.Add(std::move(record));
   return f;
@@ -127,63 +139,134 @@ bool Backend::Impl::InMap(const FactorRecord& record) const {
                                    internal::ObjectStatus::kConfirmed);
 }
 
-void Backend::Impl::MarkActive(int first_free,
-                               std::vector<char>* keyframe_free,
-                               std::vector<char>* active) const {
-  // The free set: window keyframes (not the gauge) and all they observe.
+std::vector<int> Backend::Impl::ConditionedFactors(int first_free) const {
+  // The window keyframes and everything they observe, with every factor of
+  // those.
   const int n = static_cast<int>(keyframes_.size());
-  keyframe_free->assign(n, 0);
   std::vector<char> object_free(objects_.size(), 0);
   std::vector<char> point_free(points_.size(), 0);
+  std::vector<int> active;
   for (int k = first_free; k < n; ++k) {
-    (*keyframe_free)[k] = k > 0;
     for (int f : keyframes_[k]->factors) {
       const FactorRecord& record = problem_.factor(f);
       if (!InMap(record)) continue;
+      active.push_back(f);
       if (record.object >= 0) object_free[record.object] = 1;
       if (record.point >= 0) point_free[record.point] = 1;
     }
   }
-  // Active: every factor of a free keyframe, object or point.
-  active->assign(problem_.size(), 0);
-  auto mark = [&](const std::vector<int>& list) {
-    for (int f : list) (*active)[f] = InMap(problem_.factor(f));
-  };
-  for (int k = first_free; k < n; ++k) mark(keyframes_[k]->factors);
   for (size_t o = 0; o < objects_.size(); ++o) {
-    if (object_free[o]) mark(objects_[o]->factors);
+    if (!object_free[o]) continue;
+    for (const ObjectObservation& observation : objects_[o]->observations) {
+      if (observation.factor >= 0) active.push_back(observation.factor);
+    }
   }
   for (size_t p = 0; p < points_.size(); ++p) {
-    if (point_free[p]) mark(points_[p]->factors);
+    if (!point_free[p]) continue;
+    for (int f : points_[p]->factors) {
+      if (InMap(problem_.factor(f))) active.push_back(f);
+    }
   }
+  return active;
 }
 
-int Backend::Impl::FixKeyframesOutsideWindow(
-    const std::vector<char>& keyframe_free) {
+std::vector<int> Backend::Impl::WindowFactors(int first_free) const {
+  std::vector<int> active;
+  std::vector<int> points;
+  std::vector<int> objects;
+  for (int k = first_free; k < static_cast<int>(keyframes_.size()); ++k) {
+    for (int f : keyframes_[k]->factors) {
+      const FactorRecord& record = problem_.factor(f);
+      if (!InMap(record) || record.marginalized) continue;
+      active.push_back(f);
+      if (record.point >= 0) points.push_back(record.point);
+      if (record.object >= 0) objects.push_back(record.object);
+    }
+  }
+  std::sort(objects.begin(), objects.end());
+  objects.erase(std::unique(objects.begin(), objects.end()), objects.end());
+  for (int o : objects) {
+    if (objects_[o]->prior_factor >= 0) {
+      active.push_back(objects_[o]->prior_factor);
+    }
+  }
+  // The points' priors from their observations that left the window.
+  std::sort(points.begin(), points.end());
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  for (int p : points) {
+    if (points_[p]->prior_factor >= 0) active.push_back(points_[p]->prior_factor);
+  }
+  return active;
+}
+
+std::vector<int> Backend::Impl::AllFactors() const {
+  std::vector<int> active;
+  for (int f = 0; f < problem_.size(); ++f) {
+    const FactorRecord& record = problem_.factor(f);
+    if (InMap(record) && !record.summary) active.push_back(f);
+  }
+  return active;
+}
+
+int Backend::Impl::SetKeyframeFreedom(int first_free, int gauge) {
+  // Every keyframe the problem holds appears in one of its factors.
+  std::vector<int> held;
+  for (int f : problem_.in_problem()) {
+    const FactorRecord& record = problem_.factor(f);
+    if (record.keyframe >= 0) held.push_back(record.keyframe);
+    if (record.keyframe2 >= 0) held.push_back(record.keyframe2);
+  }
+  std::sort(held.begin(), held.end());
+  held.erase(std::unique(held.begin(), held.end()), held.end());
   int free_keyframes = 0;
-  for (size_t k = 0; k < keyframes_.size(); ++k) {
+  for (int k : held) {
     KeyframeState& kf = *keyframes_[k];
-    if (!problem_.HasBlock(kf.q)) continue;
-    problem_.SetConstant(kf.q, !keyframe_free[k]);
-    problem_.SetConstant(kf.t, !keyframe_free[k]);
-    if (keyframe_free[k]) ++free_keyframes;
+    const bool free = k >= first_free && k != gauge;
+    problem_.SetConstant(kf.q, !free);
+    problem_.SetConstant(kf.t, !free);
+    free_keyframes += free ? 1 : 0;
   }
   return free_keyframes;
 }
 
-Status Backend::Impl::Optimize(int first_free,
-                               int max_iterations,
-                               SolveReport* report) {
+Status Backend::Impl::OptimizeWindow(SolveReport* report) {
   if (keyframes_.empty()) return Status::Error("no keyframes to optimise");
   const auto start = std::chrono::steady_clock::now();
+  const int first = WindowStart();
+  const WindowPolicy policy = options_.window_policy;
+  internal::WindowProblem::SyncOptions sync;
+  // The gauge: the first keyframe while in the window; under drop the
+  // oldest window keyframe.
+  int gauge = 0;
+  if (policy == WindowPolicy::kCondition) {
+    problem_.Sync(ConditionedFactors(first), sync);
+  } else {
+    while (marginalized_until_ < first) LeaveWindow(marginalized_until_++);
+    sync.with_prior = policy == WindowPolicy::kMarginalize;
+    problem_.Sync(WindowFactors(first), sync);
+    if (policy == WindowPolicy::kDrop) gauge = first;
+  }
+  const int free_keyframes = SetKeyframeFreedom(first, gauge);
+  return Solve("window", options_.max_iterations, free_keyframes, start, report);
+}
 
-  std::vector<char> keyframe_free;
-  std::vector<char> active;
-  MarkActive(first_free, &keyframe_free, &active);
-  problem_.Sync(active);
-  // Keyframes outside the window (and the gauge) are constant.
-  const int free_keyframes = FixKeyframesOutsideWindow(keyframe_free);
+Status Backend::Impl::OptimizeBatch(SolveReport* report) {
+  if (keyframes_.empty()) return Status::Error("no keyframes to optimise");
+  const auto start = std::chrono::steady_clock::now();
+  RebuildStaleObjectFactors();
+  internal::WindowProblem::SyncOptions sync;
+  sync.with_marginalized = true;
+  problem_.Sync(AllFactors(), sync);
+  const int free_keyframes = SetKeyframeFreedom(0, 0);
+  return Solve(
+      "batch", options_.batch_max_iterations, free_keyframes, start, report);
+}
 
+Status Backend::Impl::Solve(const char* what,
+                            int max_iterations,
+                            int free_keyframes,
+                            const std::chrono::steady_clock::time_point& start,
+                            SolveReport* report) {
   ceres::Solver::Summary summary;
   if (problem_.NumResidualBlocks() > 0) {
     ceres::Solver::Options solver_options;
@@ -209,9 +292,14 @@ Status Backend::Impl::Optimize(int first_free,
     report->converged = summary.termination_type == ceres::CONVERGENCE;
     report->free_keyframes = free_keyframes;
     report->residual_blocks = problem_.NumResidualBlocks();
+    report->parameter_blocks = problem_.NumParameterBlocks();
+    report->prior_size = problem_.prior() != nullptr
+                             ? static_cast<int>(problem_.prior()->A().cols())
+                             : 0;
   }
   if (problem_.NumResidualBlocks() > 0 && !summary.IsSolutionUsable()) {
-    return Status::Error("the solver failed: " + summary.message);
+    return Status::Error(std::string("the ") + what +
+                         " solve failed: " + summary.message);
   }
   return Status::Ok();
 }
@@ -232,37 +320,61 @@ std::vector<MapObjectEstimate> Backend::Impl::Objects() const {
   std::vector<MapObjectEstimate> estimates;
   for (const auto& object : objects_) {
     if (object->status != internal::ObjectStatus::kConfirmed) continue;
-    MapObjectEstimate e;
-    e.id = object->id;
-    e.class_name = object->class_name;
-    e.symmetry = object->type;
-    e.t_wo = object->position();
-    e.observations = object->detections;
-    if (object->upgrade) {
-      const internal::UpgradeRecord& u = *object->upgrade;
-      e.upgrade = MapObjectEstimate::Upgrade{
-          keyframes_[u.keyframe]->id, u.evidence, u.order, u.angle};
-    }
-    if (object->type == SymmetryType::kAsymmetric) {
-      e.poses.push_back(Rigid3d(object->Rotation(-1), e.t_wo));
-    } else {
-      e.axis_w = object->axis_w().normalized();
-      e.axis_o = object->a_o;
-      if (object->type == SymmetryType::kDiscrete) {
-        for (size_t i = 0; i < object->thetas.size(); ++i) {
-          e.angles.push_back(*object->thetas[i]);
-          e.poses.push_back(
-              Rigid3d(object->Rotation(static_cast<int>(i)), e.t_wo));
-        }
-      } else {
-        e.poses.push_back(Rigid3d(
-            SymmetricObjectRotation(object->anchor, object->axis_w(), 0.0),
-            e.t_wo));
-      }
-    }
-    estimates.push_back(std::move(e));
+    estimates.push_back(EstimateOf(*object));
   }
   return estimates;
+}
+
+std::optional<KeyframeEstimate> Backend::Impl::Keyframe(KeyframeId id) const {
+  // Keyframe ids are strictly increasing.
+  const auto it = std::lower_bound(
+      keyframes_.begin(),
+      keyframes_.end(),
+      id,
+      [](const std::unique_ptr<KeyframeState>& kf, KeyframeId value) {
+        return kf->id < value;
+      });
+  if (it == keyframes_.end() || (*it)->id != id) return std::nullopt;
+  return KeyframeEstimate{(*it)->id, (*it)->timestamp, (*it)->T_wc()};
+}
+
+std::optional<MapObjectEstimate> Backend::Impl::Object(ObjectId id) const {
+  // Object ids are indices.
+  if (id < 0 || id >= static_cast<ObjectId>(objects_.size()) ||
+      objects_[id]->status != internal::ObjectStatus::kConfirmed) {
+    return std::nullopt;
+  }
+  return EstimateOf(*objects_[id]);
+}
+
+MapObjectEstimate Backend::Impl::EstimateOf(const ObjectState& object) const {
+  MapObjectEstimate e;
+  e.id = object.id;
+  e.class_name = object.class_name;
+  e.symmetry = object.type;
+  e.t_wo = object.position();
+  e.observations = object.detections;
+  if (object.upgrade) {
+    const internal::UpgradeRecord& u = *object.upgrade;
+    e.upgrade = MapObjectEstimate::Upgrade{
+        keyframes_[u.keyframe]->id, u.evidence, u.order, u.angle};
+  }
+  if (object.type == SymmetryType::kAsymmetric) {
+    e.poses.push_back(Rigid3d(object.Rotation(-1), e.t_wo));
+    return e;
+  }
+  e.axis_w = object.axis_w().normalized();
+  e.axis_o = object.a_o;
+  if (object.type == SymmetryType::kDiscrete) {
+    for (size_t i = 0; i < object.thetas.size(); ++i) {
+      e.angles.push_back(*object.thetas[i]);
+      e.poses.push_back(Rigid3d(object.Rotation(static_cast<int>(i)), e.t_wo));
+    }
+  } else {
+    e.poses.push_back(Rigid3d(
+        SymmetricObjectRotation(object.anchor, object.axis_w(), 0.0), e.t_wo));
+  }
+  return e;
 }
 
 // ---------------------------------------------------------------------------
@@ -302,17 +414,25 @@ Status Backend::Create(const BackendOptions& options,
 Backend::Backend(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Backend::~Backend() = default;
 
-Status Backend::AddKeyframe(const KeyframeInput& keyframe) {
-  return impl_->AddKeyframe(keyframe);
+Status Backend::AddKeyframe(const KeyframeInput& keyframe,
+                            std::vector<DetectionAssignment>* assignments) {
+  return impl_->AddKeyframe(keyframe, assignments);
 }
 
 Status Backend::OptimizeWindow(SolveReport* report) {
-  return impl_->Optimize(
-      impl_->WindowStart(), impl_->options_.max_iterations, report);
+  return impl_->OptimizeWindow(report);
 }
 
 Status Backend::OptimizeBatch(SolveReport* report) {
-  return impl_->Optimize(0, impl_->options_.batch_max_iterations, report);
+  return impl_->OptimizeBatch(report);
+}
+
+std::optional<KeyframeEstimate> Backend::Keyframe(KeyframeId id) const {
+  return impl_->Keyframe(id);
+}
+
+std::optional<MapObjectEstimate> Backend::Object(ObjectId id) const {
+  return impl_->Object(id);
 }
 
 std::vector<KeyframeEstimate> Backend::Keyframes() const {

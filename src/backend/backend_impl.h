@@ -1,6 +1,8 @@
 // Backend::Impl: the backend's state and the steps of AddKeyframe and the
 // solves. Its member functions are defined by topic:
 //   backend.cc      AddKeyframe, the solves, read-back
+//   window.cc       keyframes leaving the window: marginalisation and the
+//                   prior
 //   detections.cc   a keyframe's detections, per method
 //   keyframe_factors.cc  a keyframe's initial pose, camera motion factor
 //                   and point observations
@@ -13,6 +15,7 @@
 #ifndef SYMBA_SRC_BACKEND_BACKEND_IMPL_H_
 #define SYMBA_SRC_BACKEND_BACKEND_IMPL_H_
 
+#include <chrono>
 #include <map>
 #include <memory>
 #include <optional>
@@ -26,6 +29,7 @@
 #include "backend/association.h"
 #include "backend/backend_state.h"
 #include "backend/detection_noise.h"
+#include "backend/marginalization.h"
 #include "backend/window_problem.h"
 #include "symba/backend/backend.h"
 #include "symba/manifolds/axis_manifold.h"
@@ -38,12 +42,16 @@ class Backend::Impl {
        const std::optional<PinholeIntrinsics>& intrinsics,
        const std::map<std::string, ClassPrior>& class_priors);
 
-  Status AddKeyframe(const KeyframeInput& input);
-  Status Optimize(int first_free, int max_iterations, SolveReport* report);
+  Status AddKeyframe(const KeyframeInput& input,
+                     std::vector<DetectionAssignment>* assignments);
+  Status OptimizeWindow(SolveReport* report);
+  Status OptimizeBatch(SolveReport* report);
   int WindowStart() const;
 
   std::vector<KeyframeEstimate> Keyframes() const;
   std::vector<MapObjectEstimate> Objects() const;
+  std::optional<KeyframeEstimate> Keyframe(KeyframeId id) const;
+  std::optional<MapObjectEstimate> Object(ObjectId id) const;
 
   const BackendOptions options_;
   std::vector<DetectionAssignment> assignments_;
@@ -84,10 +92,38 @@ class Backend::Impl {
   // The solve's free set and active factors (backend.cc). A factor is in
   // the map unless it was retired or its object is not confirmed.
   bool InMap(const internal::FactorRecord& record) const;
-  void MarkActive(int first_free,
-                  std::vector<char>* keyframe_free,
-                  std::vector<char>* active) const;
-  int FixKeyframesOutsideWindow(const std::vector<char>& keyframe_free);
+  // condition: the window keyframes' factors and every factor of what they
+  // observe (grows with the run).
+  std::vector<int> ConditionedFactors(int first_free) const;
+  // marginalize, drop: the window keyframes' factors only.
+  std::vector<int> WindowFactors(int first_free) const;
+  // batch: every factor in the map.
+  std::vector<int> AllFactors() const;
+  // Sets the keyframes the problem holds constant or free (free: index >=
+  // first_free, not the gauge); returns the free count. O(problem size).
+  int SetKeyframeFreedom(int first_free, int gauge);
+  Status Solve(const char* what, int max_iterations, int free_keyframes,
+               const std::chrono::steady_clock::time_point& start,
+               SolveReport* report);
+
+  // The window (window.cc). Keyframes before marginalized_until_ have left
+  // the window: their factors are marginalised into the prior (marginalize)
+  // or dropped (drop).
+  void LeaveWindow(int k);
+  // The factors of a point or object (`own`: its blocks) from a keyframe
+  // that leaves the window, conditioned on everything else and merged with
+  // `share` of their information into its own prior (*prior_factor).
+  void MergeIntoOwnPrior(const std::vector<int>& factors,
+                         const std::vector<double*>& own,
+                         double share,
+                         int object,
+                         int point,
+                         int* prior_factor);
+  // Marginalises `blocks` out of object o's prior (their information on
+  // its other blocks stays); nothing if the prior has none of them.
+  void RemoveFromObjectPrior(int o, const std::vector<double*>& blocks);
+  internal::BlockDescription DescribeForPrior(const double* block) const;
+  static std::vector<double*> ObjectBlocks(internal::ObjectState& object);
 
   // Map objects (map_objects.cc).
   int CreateObject(const std::string& class_name, SymmetryType type, int k);
@@ -128,7 +164,16 @@ class Backend::Impl {
   void AddObservation(int o, internal::ObjectObservation observation);
   // The edge of object o's observation i.
   void AddObjectFactor(int o, int i);
+  // Rebuilds the edges of the observations still in the window (all under
+  // condition); the older ones become stale (ObjectState).
   void RebuildObjectFactors(int o);
+  void RebuildObjectFactors(int o, int begin, int end);
+  // The batch solve first rebuilds every stale edge.
+  void RebuildStaleObjectFactors();
+  // The first observation of object o whose keyframe has not left the
+  // window for good (0 under condition). O(log observations).
+  int FirstLiveObservation(int o) const;
+  MapObjectEstimate EstimateOf(const internal::ObjectState& object) const;
   void ReanchorDriftedObjects();
   std::unique_ptr<ceres::CostFunction> BuildObjectEdge(
       internal::KeyframeState* keyframe,
@@ -163,6 +208,8 @@ class Backend::Impl {
   internal::DetectionNoiseEstimator noise_;
   std::map<std::string, internal::ClassNoise> applied_noise_;
   internal::WindowProblem problem_;
+  int marginalized_until_ = 0;
+  internal::MarginalizationOptions marginalization_;
 };
 
 }  // namespace symba

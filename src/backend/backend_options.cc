@@ -57,8 +57,36 @@ bool ParseLoss(const std::string& name, LossType* loss) {
   return false;
 }
 
+const char* WindowPolicyName(WindowPolicy policy) {
+  switch (policy) {
+    case WindowPolicy::kMarginalize:
+      return "marginalize";
+    case WindowPolicy::kCondition:
+      return "condition";
+    case WindowPolicy::kDrop:
+      return "drop";
+  }
+  return "marginalize";
+}
+
+bool ParseWindowPolicy(const std::string& name, WindowPolicy* policy) {
+  for (WindowPolicy p : {WindowPolicy::kMarginalize,
+                         WindowPolicy::kCondition,
+                         WindowPolicy::kDrop}) {
+    if (name == WindowPolicyName(p)) {
+      *policy = p;
+      return true;
+    }
+  }
+  return false;
+}
+
 Status BackendOptions::Validate() const {
   if (window_size < 1) return Status::Error("window_size must be >= 1");
+  if (!(std::isfinite(marginalize_min_margin) &&
+        marginalize_min_margin >= 0.0)) {
+    return Status::Error("marginalize_min_margin must be finite and >= 0");
+  }
   if (max_iterations < 1 || batch_max_iterations < 1) {
     return Status::Error(
         "max_iterations and batch_max_iterations must be >= 1");

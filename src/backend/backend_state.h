@@ -74,6 +74,7 @@ struct ObjectObservation {
   Rigid3d T_co_best;                      // representative hypothesis
   Eigen::Vector3d axis_c = Eigen::Vector3d::Zero();  // measured axis, if any
   int angle = -1;  // discrete: the angle it constrains; -1: no angle
+  int factor = -1;  // its edge's factor index
 };
 
 // A tentative object's edges stay out of the solves until enough
@@ -126,8 +127,17 @@ struct ObjectState {
   Eigen::Vector3d a_o = Eigen::Vector3d::Zero();  // object-frame axis
   SymmetryAnchor anchor;
   std::vector<std::unique_ptr<double>> thetas;  // stable addresses
+  // In keyframe order. Edges of observations before stale_observations
+  // were built for an older type, anchor or noise: under the marginalize
+  // and drop policies a rebuild touches the window's observations only,
+  // and the batch solve rebuilds the rest first (observations before
+  // upgrade_observations then constrain angle 0, as at the upgrade).
   std::vector<ObjectObservation> observations;
-  std::vector<int> factors;
+  int stale_observations = 0;
+  int upgrade_observations = 0;
+  // Its observations from keyframes that left the window, as a prior on
+  // its blocks (the factor's index; -1: none).
+  int prior_factor = -1;
   int detections = 0;
 
   Eigen::Vector3d position() const {
@@ -150,6 +160,9 @@ struct PointState {
   int64_t id = 0;
   double p[3] = {0, 0, 0};  // p_w
   std::vector<int> factors;
+  // marginalize: its observations from keyframes that left the window, as
+  // one prior on p_w (the factor's index; -1: none).
+  int prior_factor = -1;
 };
 
 // A factor and where it sits. The record owns its cost function; the
@@ -165,6 +178,13 @@ struct FactorRecord {
   int point = -1;
   ceres::ResidualBlockId residual = nullptr;  // non-null while in the problem
   bool retired = false;                       // replaced by a rebuilt factor
+  // Its information went into the marginalisation prior (or was dropped
+  // with its keyframe): only the batch solve uses it again.
+  bool marginalized = false;
+  // A point's marginalisation prior: a summary of other factors, never in
+  // the batch solve.
+  bool summary = false;
+  int sync_stamp = 0;  // WindowProblem::Sync's bookkeeping
 };
 
 }  // namespace symba::internal

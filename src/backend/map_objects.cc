@@ -104,8 +104,12 @@ void Backend::Impl::PruneUnsupportedObjects(int k) {
 void Backend::Impl::DropObject(int o) {
   ObjectState& object = *objects_[o];
   object.status = internal::ObjectStatus::kDropped;
-  for (int f : object.factors) problem_.Retire(f);
-  object.factors.clear();
+  for (ObjectObservation& observation : object.observations) {
+    if (observation.factor >= 0) problem_.Retire(observation.factor);
+    observation.factor = -1;
+  }
+  if (object.prior_factor >= 0) problem_.Retire(object.prior_factor);
+  object.prior_factor = -1;
   for (int a : object.assignments) assignments_[a].object = -1;
   ++statistics_.objects_dropped;
 }
@@ -174,6 +178,10 @@ void Backend::Impl::UpgradeObject(int o,
   object.upgrade = record;
   object.upgrade->type = type;
   object.flips.clear();
+  // The prior's rotation of the asymmetric object has no counterpart in
+  // the symmetric parameters: it is marginalised out of the prior, whose
+  // information on the position stays (docs/backend.md "The window").
+  RemoveFromObjectPrior(o, {object.q});
   const Eigen::Quaterniond R_wo = object.Rotation(-1);
   object.type = type;
   object.a_o = a_o.normalized();
@@ -182,8 +190,10 @@ void Backend::Impl::UpgradeObject(int o,
   if (type == SymmetryType::kDiscrete) {
     // The asymmetric pose is angle 0; every past observation constrains it.
     object.thetas.push_back(std::make_unique<double>(0.0));
-    for (ObjectObservation& observation : object.observations) {
-      observation.angle = 0;
+    object.upgrade_observations = static_cast<int>(object.observations.size());
+    for (size_t i = FirstLiveObservation(o); i < object.observations.size();
+         ++i) {
+      object.observations[i].angle = 0;
     }
   }
   ++statistics_.object_upgrades;
@@ -216,15 +226,52 @@ void Backend::Impl::AddObjectFactor(int o, int i) {
   record.keyframe = observation.keyframe;
   record.object = o;
   record.observation = i;
-  AddFactor(std::move(record));
+  objects_[o]->observations[i].factor = AddFactor(std::move(record));
+}
+
+int Backend::Impl::FirstLiveObservation(int o) const {
+  const ObjectState& object = *objects_[o];
+  if (options_.window_policy == WindowPolicy::kCondition) return 0;
+  // Observations are in keyframe order.
+  const auto first = std::partition_point(
+      object.observations.begin(),
+      object.observations.end(),
+      [this](const ObjectObservation& observation) {
+        return observation.keyframe < marginalized_until_;
+      });
+  return static_cast<int>(first - object.observations.begin());
 }
 
 void Backend::Impl::RebuildObjectFactors(int o) {
   ObjectState& object = *objects_[o];
-  for (int f : object.factors) problem_.Retire(f);
-  object.factors.clear();
-  for (size_t i = 0; i < object.observations.size(); ++i) {
-    AddObjectFactor(o, static_cast<int>(i));
+  const int first = FirstLiveObservation(o);
+  RebuildObjectFactors(o, first, static_cast<int>(object.observations.size()));
+  object.stale_observations = std::max(object.stale_observations, first);
+}
+
+void Backend::Impl::RebuildObjectFactors(int o, int begin, int end) {
+  ObjectState& object = *objects_[o];
+  for (int i = begin; i < end; ++i) {
+    ObjectObservation& observation = object.observations[i];
+    if (observation.factor >= 0) problem_.Retire(observation.factor);
+    AddObjectFactor(o, i);
+  }
+}
+
+void Backend::Impl::RebuildStaleObjectFactors() {
+  for (size_t o = 0; o < objects_.size(); ++o) {
+    ObjectState& object = *objects_[o];
+    if (object.stale_observations == 0 ||
+        object.status == internal::ObjectStatus::kDropped) {
+      continue;
+    }
+    if (object.type == SymmetryType::kDiscrete) {
+      for (int i = 0; i < object.upgrade_observations; ++i) {
+        if (object.observations[i].angle < 0) object.observations[i].angle = 0;
+      }
+    }
+    RebuildObjectFactors(static_cast<int>(o), 0, object.stale_observations);
+    object.stale_observations = 0;
   }
 }
 
@@ -325,6 +372,10 @@ void Backend::Impl::ReanchorDriftedObjects() {
             .normalized();
     object.anchor.a_w0 = object.anchor.q_base * object.anchor.a_o;
     Eigen::Map<Eigen::Vector3d>(object.a_w) = object.anchor.a_w0;
+    // The angles now measure from another base: out of the prior.
+    std::vector<double*> thetas;
+    for (const auto& theta : object.thetas) thetas.push_back(theta.get());
+    RemoveFromObjectPrior(static_cast<int>(o), thetas);
     RebuildObjectFactors(static_cast<int>(o));
   }
 }

@@ -1,5 +1,6 @@
 #include "backend/window_problem.h"
 
+#include <algorithm>
 #include <utility>
 
 namespace symba::internal {
@@ -28,42 +29,77 @@ int WindowProblem::Add(FactorRecord record) {
   return static_cast<int>(factors_.size()) - 1;
 }
 
+const ceres::Manifold* WindowProblem::ManifoldOf(const double* block) const {
+  const auto it = manifolds_.find(block);
+  return it == manifolds_.end() ? nullptr : it->second;
+}
+
 void WindowProblem::Retire(int f) {
   FactorRecord& record = factors_[f];
-  if (record.residual != nullptr) {
-    problem_.RemoveResidualBlock(record.residual);
-    record.residual = nullptr;
-  }
+  RemoveResidual(&record.residual, record.blocks);
   record.retired = true;
   record.cost.reset();
 }
 
-void WindowProblem::Sync(const std::vector<char>& active) {
-  RemoveInactive(active);
-  AddActive(active);
+void WindowProblem::MarkMarginalized(int f) {
+  FactorRecord& record = factors_[f];
+  RemoveResidual(&record.residual, record.blocks);
+  record.marginalized = true;
 }
 
-void WindowProblem::RemoveInactive(const std::vector<char>& active) {
-  std::vector<double*> released;
-  for (size_t f = 0; f < factors_.size(); ++f) {
-    FactorRecord& record = factors_[f];
-    if (record.residual == nullptr || active[f]) continue;
-    problem_.RemoveResidualBlock(record.residual);
-    record.residual = nullptr;
-    released.insert(released.end(), record.blocks.begin(), record.blocks.end());
-  }
+void WindowProblem::SetPrior(std::unique_ptr<MarginalPriorFactor> prior,
+                             std::vector<double*> blocks) {
+  RemoveResidual(&prior_residual_, prior_blocks_);
+  prior_ = std::move(prior);
+  prior_blocks_ = prior_ ? std::move(blocks) : std::vector<double*>();
+}
+
+bool WindowProblem::PriorHasBlock(const double* block) const {
+  return std::find(prior_blocks_.begin(), prior_blocks_.end(), block) !=
+         prior_blocks_.end();
+}
+
+void WindowProblem::RemoveResidual(ceres::ResidualBlockId* residual,
+                                   const std::vector<double*>& blocks) {
+  if (*residual == nullptr) return;
+  problem_.RemoveResidualBlock(*residual);
+  *residual = nullptr;
+  released_.insert(released_.end(), blocks.begin(), blocks.end());
+}
+
+void WindowProblem::ReleaseUnusedBlocks() {
   std::vector<ceres::ResidualBlockId> users;
-  for (double* block : released) {
+  for (double* block : released_) {
     if (!problem_.HasParameterBlock(block)) continue;
     problem_.GetResidualBlocksForParameterBlock(block, &users);
     if (users.empty()) problem_.RemoveParameterBlock(block);
   }
+  released_.clear();
 }
 
-void WindowProblem::AddActive(const std::vector<char>& active) {
-  for (size_t f = 0; f < factors_.size(); ++f) {
+void WindowProblem::Sync(const std::vector<int>& active,
+                         const SyncOptions& options) {
+  ++sync_stamp_;
+  std::vector<int> wanted;
+  wanted.reserve(active.size());
+  for (int f : active) {
     FactorRecord& record = factors_[f];
-    if (!active[f] || record.retired || record.residual != nullptr) continue;
+    if (record.retired || record.sync_stamp == sync_stamp_) continue;
+    if (record.marginalized && !options.with_marginalized) continue;
+    record.sync_stamp = sync_stamp_;
+    wanted.push_back(f);
+  }
+  for (int f : in_problem_) {
+    FactorRecord& record = factors_[f];
+    if (record.sync_stamp != sync_stamp_) {
+      RemoveResidual(&record.residual, record.blocks);
+    }
+  }
+  if (!options.with_prior) RemoveResidual(&prior_residual_, prior_blocks_);
+  ReleaseUnusedBlocks();
+  for (int f : wanted) {
+    FactorRecord& record = factors_[f];
+    if (record.residual != nullptr) continue;
     const std::vector<int32_t>& sizes = record.cost->parameter_block_sizes();
     for (size_t b = 0; b < record.blocks.size(); ++b) {
       EnsureBlock(record.blocks[b], sizes[b]);
@@ -73,6 +109,15 @@ void WindowProblem::AddActive(const std::vector<char>& active) {
                                   const_cast<ceres::LossFunction*>(record.loss),
                                   record.blocks);
   }
+  if (options.with_prior && prior_ && prior_residual_ == nullptr) {
+    const std::vector<int32_t>& sizes = prior_->parameter_block_sizes();
+    for (size_t b = 0; b < prior_blocks_.size(); ++b) {
+      EnsureBlock(prior_blocks_[b], sizes[b]);
+    }
+    prior_residual_ =
+        problem_.AddResidualBlock(prior_.get(), nullptr, prior_blocks_);
+  }
+  in_problem_ = std::move(wanted);
 }
 
 void WindowProblem::EnsureBlock(double* block, int size) {

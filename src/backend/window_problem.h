@@ -1,13 +1,15 @@
 // The persistent Ceres problem behind the windowed and batch solves
 // (docs/backend.md "The persistent problem"). It owns every factor ever
-// added (a FactorRecord with its cost function) and the manifold of each
-// parameter block, and keeps one ceres::Problem holding exactly the active
-// factors: a solve adds the factors that became active and removes those
-// that left, and removes parameter blocks no active factor uses. Nothing is
-// rebuilt per keyframe. Not installed.
+// added (a FactorRecord with its cost function), the marginalisation prior
+// and the manifold of each parameter block, and keeps one ceres::Problem
+// holding exactly the active factors: a solve adds the factors that became
+// active and removes those that left, and removes parameter blocks no
+// active factor uses. Sync costs O(factors in the problem before and
+// after), never O(factors ever added). Not installed.
 #ifndef SYMBA_SRC_BACKEND_WINDOW_PROBLEM_H_
 #define SYMBA_SRC_BACKEND_WINDOW_PROBLEM_H_
 
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
@@ -16,6 +18,7 @@
 #include <ceres/solver.h>
 
 #include "backend/backend_state.h"
+#include "symba/factors/marginal_prior_factor.h"
 
 namespace symba::internal {
 
@@ -28,6 +31,7 @@ class WindowProblem {
   // The manifold a parameter block gets when it enters the problem (none:
   // Euclidean). The manifold must outlive this object.
   void SetManifold(const double* block, const ceres::Manifold* manifold);
+  const ceres::Manifold* ManifoldOf(const double* block) const;
 
   // Takes the record (cost function non-null) and returns its index. It
   // enters the problem at the next Sync that marks it active.
@@ -35,30 +39,56 @@ class WindowProblem {
   // Out of the problem for good (replaced by a rebuilt factor); its cost
   // function is freed.
   void Retire(int f);
+  // Marginalised: out of the window solves for good (Sync skips it unless
+  // with_marginalized), kept for the batch solve.
+  void MarkMarginalized(int f);
 
   const FactorRecord& factor(int f) const { return factors_[f]; }
   int size() const { return static_cast<int>(factors_.size()); }
 
-  // Makes the problem hold exactly the non-retired factors with active[f]
-  // (active.size() == size()), adding their parameter blocks with their
-  // manifolds and removing blocks that no factor uses any more.
-  void Sync(const std::vector<char>& active);
+  // The marginalisation prior (null: none) on `blocks`, replacing the
+  // previous one; it enters the problem at the next Sync with_prior.
+  void SetPrior(std::unique_ptr<MarginalPriorFactor> prior,
+                std::vector<double*> blocks);
+  const MarginalPriorFactor* prior() const { return prior_.get(); }
+  const std::vector<double*>& prior_blocks() const { return prior_blocks_; }
+  bool PriorHasBlock(const double* block) const;
+
+  // Makes the problem hold exactly the factors of `active` (indices; the
+  // retired ones, and the marginalised ones unless with_marginalized, are
+  // skipped) and the prior if with_prior, adding their parameter blocks
+  // with their manifolds and removing blocks that nothing uses any more.
+  struct SyncOptions {
+    bool with_prior = false;
+    bool with_marginalized = false;
+  };
+  void Sync(const std::vector<int>& active, const SyncOptions& options);
+  // The factors in the problem after the last Sync.
+  const std::vector<int>& in_problem() const { return in_problem_; }
 
   bool HasBlock(const double* block) const;
   // The block must be in the problem.
   void SetConstant(double* block, bool constant);
   int NumResidualBlocks() const { return problem_.NumResidualBlocks(); }
+  int NumParameterBlocks() const { return problem_.NumParameterBlocks(); }
 
   void Solve(const ceres::Solver::Options& options,
              ceres::Solver::Summary* summary);
 
  private:
-  void RemoveInactive(const std::vector<char>& active);
-  void AddActive(const std::vector<char>& active);
+  void RemoveResidual(ceres::ResidualBlockId* residual,
+                      const std::vector<double*>& blocks);
+  void ReleaseUnusedBlocks();
   void EnsureBlock(double* block, int size);
 
   std::vector<FactorRecord> factors_;
   std::unordered_map<const double*, const ceres::Manifold*> manifolds_;
+  std::vector<int> in_problem_;
+  int sync_stamp_ = 0;
+  std::vector<double*> released_;  // blocks whose residuals left
+  std::unique_ptr<MarginalPriorFactor> prior_;
+  std::vector<double*> prior_blocks_;
+  ceres::ResidualBlockId prior_residual_ = nullptr;
   ceres::Problem problem_;
 };
 

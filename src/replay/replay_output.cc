@@ -85,6 +85,7 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
   json.Key("options")
       .BeginObject()
       .Member("window", b.window_size)
+      .Member("window_policy", WindowPolicyName(b.window_policy))
       .Member("max_iterations", b.max_iterations)
       .Member("batch_max_iterations", b.batch_max_iterations)
       .Member("threads", b.num_threads)

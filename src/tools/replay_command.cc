@@ -25,6 +25,7 @@ struct ReplayFlags {
   std::string log;
   std::string out;
   std::string method = "symba";
+  std::string window_policy = "marginalize";
   std::string mode = "window";
   std::string loss;
   bool quiet = false;
@@ -66,6 +67,12 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
       ->capture_default_str();
   cmd->add_option("--window", b.window_size, "keyframes free in a window")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--window-policy",
+                  f->window_policy,
+                  "keyframes leaving the window: marginalize (into a prior), "
+                  "condition (held constant with all their factors) or drop")
+      ->check(CLI::IsMember({"marginalize", "condition", "drop"}))
       ->capture_default_str();
   cmd->add_option("--threads", b.num_threads, "Ceres threads")
       ->check(CLI::PositiveNumber)
@@ -224,6 +231,7 @@ int RunReplay(const ReplayFlags& f) {
   symba::ReplayOptions options;
   options.backend = f.backend;
   symba::ParseMethod(f.method, &options.backend.method);
+  symba::ParseWindowPolicy(f.window_policy, &options.backend.window_policy);
   symba::ParseReplayMode(f.mode, &options.mode);
   symba::ParseLoss(f.loss, &options.backend.object_loss);
   options.backend.gate_axis = f.gate_axis_deg * kDeg;

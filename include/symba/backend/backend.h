@@ -1,5 +1,5 @@
 // Backend: the object-SLAM estimation backend a SLAM system embeds
-// (docs/backend.md). Keyed by ids, never by pointers.
+// (docs/backend.md). Keyed by ids (symba/backend/ids.h), never by pointers.
 //
 //   AddKeyframe      initialise the keyframe's pose from the previous
 //                    optimised pose and the front end's relative motion (or
@@ -7,11 +7,30 @@
 //                    observations, categorise each detection, warp it into
 //                    the world, associate it with a map object or create one,
 //                    and add its object edges (method notes Sec. 2-5).
-//   OptimizeWindow   the last K keyframes and everything they observe are
-//                    free; older keyframes that observe them are constant;
-//                    the first keyframe fixes the gauge.
-//   OptimizeBatch    everything free but the first keyframe.
-//   Keyframes / Objects / Assignments   read back the estimates.
+//                    Returns the keyframe's assignments.
+//   OptimizeWindow   the last K = window_size keyframes and everything they
+//                    observe are free. What happens to older keyframes is
+//                    options().window_policy:
+//                      marginalize (default): when a keyframe leaves the
+//                        window, its factors leave the problem for good and
+//                        what they said about the later keyframes and the
+//                        objects stays as one linear prior (Schur complement
+//                        at the estimate of that moment); its pose is final.
+//                        Its point observations are dropped. A solve holds
+//                        the window's factors, the prior and the objects the
+//                        prior or the window touch: its cost does not grow
+//                        with the length of the run.
+//                      condition: older keyframes that share an object or a
+//                        point with the window are held constant with all
+//                        their factors (the cost grows with the run).
+//                      drop: older keyframes' factors leave the problem and
+//                        their information is lost; the oldest window
+//                        keyframe is held constant.
+//                    The first keyframe fixes the gauge while in the window.
+//   OptimizeBatch    everything free but the first keyframe, every factor
+//                    ever added (never the prior), under every policy.
+//   Keyframe / Object          one estimate by id (cheap: for every frame)
+//   Keyframes / Objects / Assignments   every estimate (O(run))
 //
 // The Ceres problem persists: a window solve adds the factors that became
 // active and removes those that left the window; nothing is rebuilt per
@@ -44,7 +63,9 @@ struct SolveReport {
   double seconds = 0.0;
   bool converged = false;
   int free_keyframes = 0;
-  int residual_blocks = 0;
+  int residual_blocks = 0;   // including the prior
+  int parameter_blocks = 0;
+  int prior_size = 0;        // the prior's tangent size (0: none)
 };
 
 // Counters over the backend's life.
@@ -56,6 +77,8 @@ struct BackendStatistics {
   int object_upgrades = 0;    // asymmetric map objects that became symmetric
   int objects_dropped = 0;    // tentative objects never confirmed
   int rotation_outliers = 0;  // symba: flips that did not (yet) upgrade
+  int marginalized_keyframes = 0;  // keyframes that left the window
+  int ambiguous_edges_dropped = 0;  // mixtures not frozen into the prior
   int solves = 0;
   double solve_seconds = 0.0;
   int solve_iterations = 0;
@@ -73,11 +96,20 @@ class Backend {
   Backend(const Backend&) = delete;
   Backend& operator=(const Backend&) = delete;
 
-  // Validates the keyframe first: on an error nothing is added.
-  Status AddKeyframe(const KeyframeInput& keyframe);
+  // Validates the keyframe first: on an error nothing is added. On success
+  // `assignments` (if not null) holds one entry per detection of the
+  // keyframe, in input order (an object -1: the detection was refused).
+  Status AddKeyframe(const KeyframeInput& keyframe,
+                     std::vector<DetectionAssignment>* assignments = nullptr);
   Status OptimizeWindow(SolveReport* report = nullptr);
   Status OptimizeBatch(SolveReport* report = nullptr);
 
+  // The keyframe's current estimate (O(log keyframes)); nullopt for an
+  // unknown id.
+  std::optional<KeyframeEstimate> Keyframe(KeyframeId id) const;
+  // A confirmed map object's current estimate (O(its angles)); nullopt for
+  // an unknown, tentative or dropped object.
+  std::optional<MapObjectEstimate> Object(ObjectId id) const;
   std::vector<KeyframeEstimate> Keyframes() const;
   std::vector<MapObjectEstimate> Objects() const;
   const std::vector<DetectionAssignment>& Assignments() const;

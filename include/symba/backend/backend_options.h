@@ -25,6 +25,25 @@ const char* MethodName(Method method);  // "symba", "mh", "sh"
 // Parses "symba" | "mh" | "sh"; false for anything else.
 bool ParseMethod(const std::string& name, Method* method);
 
+// What happens to a keyframe that leaves the window (docs/backend.md "The
+// window"). The batch solve is the same under every policy.
+enum class WindowPolicy {
+  // Its factors leave the problem for good; what they said about the blocks
+  // still in it (later keyframes, objects) stays as one linear prior (the
+  // Schur complement at the current estimate). A window solve touches the
+  // window's factors and the prior only: bounded work per keyframe.
+  kMarginalize,
+  // It is held constant with all its factors; every object a window
+  // keyframe observes brings all its observations ever. Exact but growing.
+  kCondition,
+  // Its factors leave the problem and their information is lost; the
+  // oldest window keyframe is held constant (the gauge).
+  kDrop,
+};
+
+const char* WindowPolicyName(WindowPolicy policy);  // "marginalize", ...
+bool ParseWindowPolicy(const std::string& name, WindowPolicy* policy);
+
 enum class LossType { kNone, kHuber, kCauchy };
 const char* LossName(LossType loss);  // "none", "huber", "cauchy"
 bool ParseLoss(const std::string& name, LossType* loss);
@@ -33,8 +52,14 @@ struct BackendOptions {
   Method method = Method::kSymba;
 
   // Windowed solve: the last `window_size` keyframes and everything they
-  // observe are free; older keyframes that observe them are held constant.
+  // observe are free; older keyframes are marginalised, held constant or
+  // dropped, as window_policy says.
   int window_size = 10;
+  WindowPolicy window_policy = WindowPolicy::kMarginalize;
+  // marginalize: a max-mixture edge enters the prior with its current
+  // winner only if the winner's cost (negative log-likelihood) is this much
+  // below the runner-up's; an ambiguous edge is dropped instead.
+  double marginalize_min_margin = 2.0;
   // Levenberg-Marquardt iterations per window solve and per batch solve.
   int max_iterations = 10;
   int batch_max_iterations = 50;

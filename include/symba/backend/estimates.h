@@ -10,19 +10,20 @@
 
 #include <Eigen/Core>
 
+#include "symba/backend/ids.h"
 #include "symba/categorization/symmetry_type.h"
 #include "symba/geometry/rigid3.h"
 
 namespace symba {
 
 struct KeyframeEstimate {
-  int64_t id = 0;
+  KeyframeId id = 0;
   double timestamp = 0.0;
   Rigid3d T_wc;
 };
 
 struct MapObjectEstimate {
-  int id = 0;
+  ObjectId id = 0;
   std::string class_name;
   SymmetryType symmetry = SymmetryType::kAsymmetric;
   Eigen::Vector3d t_wo = Eigen::Vector3d::Zero();
@@ -36,7 +37,7 @@ struct MapObjectEstimate {
   int observations = 0;  // detections associated with it
   // An asymmetric object that became symmetric: when and on what evidence.
   struct Upgrade {
-    int64_t keyframe = 0;  // the keyframe id of the upgrade
+    KeyframeId keyframe = 0;  // the keyframe of the upgrade
     int evidence = 0;      // agreeing flips, or 1 symmetric detection
     int order = 0;         // the order the flips' angle fits (0: none)
     double angle = 0.0;    // the flips' mean angle (rad; 0 without flips)
@@ -45,12 +46,12 @@ struct MapObjectEstimate {
 };
 
 struct DetectionAssignment {
-  int64_t keyframe = 0;
+  KeyframeId keyframe = 0;
   std::string detection;
   // The map object's id; -1 if the detection made a tentative object that
   // was dropped (an outlier). A tentative object's id while it waits for
   // confirmation (it is not in Backend::Objects() until then).
-  int object = -1;
+  ObjectId object = -1;
   SymmetryType symmetry = SymmetryType::kAsymmetric;  // as categorised
 };
 

@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include "symba/backend/ids.h"
 #include "symba/detection/pose_hypothesis.h"
 #include "symba/geometry/rigid3.h"
 
@@ -35,13 +36,13 @@ struct DetectionInput {
 };
 
 struct PointObservation {
-  int64_t id = 0;                                // stable across keyframes
+  PointId id = 0;                                // stable across keyframes
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();  // pixels
   std::optional<double> depth;                   // m, along the optical axis
 };
 
 struct KeyframeInput {
-  int64_t id = 0;                    // strictly increasing
+  KeyframeId id = 0;                 // strictly increasing
   double timestamp = 0.0;            // s
   std::optional<Rigid3d> T_wc;       // the front end's estimate
   std::optional<Odometry> odometry;  // from the previous keyframe

@@ -97,10 +97,25 @@ struct HasMixtureLowerBound<
             std::declval<const typename Model::Prepared&>(), 0))>>
     : std::true_type {};
 
+// How clearly a max-mixture's winner wins at some parameters, for deciding
+// whether the edge can be linearised once and for all (marginalisation,
+// docs/backend.md "The window"). Not used in the solves.
+class MixtureWinnerMargin {
+ public:
+  virtual ~MixtureWinnerMargin() = default;
+  // margin: the runner-up's cost c_j minus the winner's (infinity with one
+  // component); null_won: the null hypothesis won. False when the model
+  // cannot evaluate there.
+  virtual bool WinnerMargin(double const* const* parameters,
+                            double* margin,
+                            bool* null_won) const = 0;
+};
+
 template <typename Model, int... kBlockSizes>
 class MaxMixtureCostFunction final
     : public ceres::SizedCostFunction<Model::kNumResiduals + 1,
-                                      kBlockSizes...> {
+                                      kBlockSizes...>,
+      public MixtureWinnerMargin {
  public:
   static constexpr int kNumResiduals = Model::kNumResiduals + 1;
   static constexpr int kMixtureRows = Model::kMixtureRows;
@@ -180,6 +195,26 @@ class MaxMixtureCostFunction final
         selection->cost = null_cost;
       }
     }
+    return true;
+  }
+
+  // Every component's cost, without the bound's shortcut.
+  bool WinnerMargin(double const* const* parameters,
+                    double* margin,
+                    bool* null_won) const override {
+    MixtureSelection selection;
+    if (!Select(parameters, &selection)) return false;
+    *null_won = selection.is_null;
+    typename Model::Prepared prepared;
+    if (!model_.Prepare(parameters, &prepared)) return false;
+    double runner_up = std::numeric_limits<double>::infinity();
+    for (int j = 0; j < model_.NumComponents(); ++j) {
+      if (j == selection.component) continue;
+      runner_up = std::min(runner_up,
+                           0.5 * model_.MixtureSquaredNorm(prepared, j) +
+                               log_normalizers_[j]);
+    }
+    *margin = runner_up - selection.cost;
     return true;
   }
 

@@ -74,41 +74,139 @@ SimulatedObject Prism(const Eigen::Vector3d& t_wo,
 
 const Eigen::Vector3d kCentre(0.05, -0.05, 0.375);
 
+// A scene the camera orbits (no places).
+Scene OrbitScene(const char* name,
+                 const char* description,
+                 std::vector<SimulatedObject> objects) {
+  Scene scene;
+  scene.name = name;
+  scene.description = description;
+  scene.objects = std::move(objects);
+  return scene;
+}
+
 Scene Disc() {
-  return {"disc",
-          "a rectangular table (2-fold) at the centre: the paper's sim(disc)",
-          {RectangularTable(kCentre, 0.3)}};
+  return OrbitScene(
+      "disc",
+      "a rectangular table (2-fold) at the centre: the paper's sim(disc)",
+      {RectangularTable(kCentre, 0.3)});
 }
 
 Scene Cts() {
-  return {"cts",
-          "a round table (continuous) at the centre: the paper's sim(cts)",
-          {RoundTable(kCentre, 0.3)}};
+  return OrbitScene(
+      "cts",
+      "a round table (continuous) at the centre: the paper's sim(cts)",
+      {RoundTable(kCentre, 0.3)});
 }
 
 Scene Asym() {
-  return {"asym",
-          "a chair (asymmetric) at the centre",
-          {Chair(Eigen::Vector3d(0.05, -0.05, 0.45), 0.3)}};
+  return OrbitScene("asym",
+                    "a chair (asymmetric) at the centre",
+                    {Chair(Eigen::Vector3d(0.05, -0.05, 0.45), 0.3)});
 }
 
 Scene Square() {
-  return {"square",
-          "a square table (4-fold) at the centre",
-          {SquareTable(kCentre, 0.3)}};
+  return OrbitScene("square",
+                    "a square table (4-fold) at the centre",
+                    {SquareTable(kCentre, 0.3)});
 }
 
 Scene Room() {
   // The two round tables are 1.3 m apart: same class, close enough that
   // a loose association gate could merge them.
-  return {"room",
-          "a rectangular table, two round tables 1.3 m apart, a chair and a "
-          "3-fold prism with a tilted axis",
-          {RectangularTable(kCentre, 0.3),
-           RoundTable(Eigen::Vector3d(0.9, 0.7, 0.375), 0.0),
-           RoundTable(Eigen::Vector3d(-0.4, 0.9, 0.375), 1.0),
-           Chair(Eigen::Vector3d(-1.0, -0.4, 0.45), 2.0),
-           Prism(Eigen::Vector3d(0.7, -0.9, 0.25), 0.8, 30.0 * kDeg)}};
+  return OrbitScene(
+      "room",
+      "a rectangular table, two round tables 1.3 m apart, a chair and a "
+      "3-fold prism with a tilted axis",
+      {RectangularTable(kCentre, 0.3),
+       RoundTable(Eigen::Vector3d(0.9, 0.7, 0.375), 0.0),
+       RoundTable(Eigen::Vector3d(-0.4, 0.9, 0.375), 1.0),
+       Chair(Eigen::Vector3d(-1.0, -0.4, 0.45), 2.0),
+       Prism(Eigen::Vector3d(0.7, -0.9, 0.25), 0.8, 30.0 * kDeg)});
+}
+
+// The long scene: six places of 3-5 objects on a 3 x 2 grid, 7 m apart.
+enum class Kind { kChair, kTable, kSquareTable, kRoundTable, kTiltedPrism };
+
+// Heights of the objects' frames (bounding-box centres) above the floor.
+constexpr double kTableHeight = 0.375;  // m
+constexpr double kChairHeight = 0.45;   // m
+constexpr double kPrismHeight = 0.25;   // m
+
+SimulatedObject MakeObject(Kind kind, const Eigen::Vector2d& xy, double yaw) {
+  const Eigen::Vector3d table(xy.x(), xy.y(), kTableHeight);
+  switch (kind) {
+    case Kind::kChair:
+      return Chair(Eigen::Vector3d(xy.x(), xy.y(), kChairHeight), yaw);
+    case Kind::kTable:
+      return RectangularTable(table, yaw);
+    case Kind::kSquareTable:
+      return SquareTable(table, yaw);
+    case Kind::kRoundTable:
+      return RoundTable(table, yaw);
+    case Kind::kTiltedPrism:
+      break;  // below: the compiler wants a return after the switch
+  }
+  return Prism(Eigen::Vector3d(xy.x(), xy.y(), kPrismHeight), yaw, 30 * kDeg);
+}
+
+// Neighbouring objects of a place are this far apart, so that association
+// can tell two objects of one class apart (the room's tables: 1.3 m).
+constexpr double kObjectSpacing = 1.45;  // m
+
+// Adds a place at `centre`: `kinds` evenly spaced on a ring whose chord
+// between neighbours is kObjectSpacing (radius s / (2 sin(pi / n))),
+// starting at angle `phase`; yaws differ from object to object.
+void AddPlace(const Eigen::Vector2d& centre,
+              double phase,
+              const std::vector<Kind>& kinds,
+              Scene* scene) {
+  const int n = static_cast<int>(kinds.size());
+  const double ring = kObjectSpacing / (2.0 * std::sin(kPi / n));
+  for (int i = 0; i < n; ++i) {
+    const double angle = phase + kTwoPi * i / n;
+    const Eigen::Vector2d xy =
+        centre + ring * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    scene->objects.push_back(MakeObject(kinds[i], xy, phase + 1.1 * i));
+  }
+  scene->tour.push_back(static_cast<int>(scene->places.size()));
+  scene->places.push_back(centre);
+}
+
+Scene Long() {
+  constexpr double kSpacing = 7.0;  // m between neighbouring places
+  Scene scene;
+  scene.name = "long";
+  scene.description =
+      "23 objects (chairs, 2- and 4-fold tables, round tables, a tilted "
+      "prism) at six places 7 m apart, toured lap after lap; 10000 "
+      "keyframes unless --keyframes";
+  scene.default_num_keyframes = 10000;
+  // Listed in tour order: along the row y = 0, back along y = 7.
+  using K = Kind;
+  AddPlace({0.0, 0.0}, 0.2, {K::kTable, K::kChair, K::kRoundTable}, &scene);
+  AddPlace({kSpacing, 0.0},
+           0.5,
+           {K::kSquareTable, K::kChair, K::kRoundTable, K::kChair},
+           &scene);
+  AddPlace({2 * kSpacing, 0.0},
+           1.0,
+           {K::kTable, K::kRoundTable, K::kTiltedPrism, K::kChair},
+           &scene);
+  AddPlace({2 * kSpacing, kSpacing},
+           -0.4,
+           {K::kSquareTable, K::kTable, K::kChair},
+           &scene);
+  AddPlace(
+      {kSpacing, kSpacing},
+      0.8,
+      {K::kRoundTable, K::kRoundTable, K::kTable, K::kChair, K::kSquareTable},
+      &scene);
+  AddPlace({0.0, kSpacing},
+           -0.9,
+           {K::kChair, K::kTable, K::kSquareTable, K::kRoundTable},
+           &scene);
+  return scene;
 }
 
 Status Positive(double value, const char* name) {
@@ -140,7 +238,7 @@ Status Finite(double value, const char* name) {
 }  // namespace
 
 std::vector<std::string> SceneNames() {
-  return {"disc", "cts", "asym", "square", "room"};
+  return {"disc", "cts", "asym", "square", "room", "long"};
 }
 
 Status MakeScene(const std::string& name, Scene* scene) {
@@ -154,6 +252,8 @@ Status MakeScene(const std::string& name, Scene* scene) {
     *scene = Square();
   } else if (name == "room") {
     *scene = Room();
+  } else if (name == "long") {
+    *scene = Long();
   } else {
     std::string known;
     for (const std::string& n : SceneNames()) {
@@ -174,6 +274,9 @@ Status SimulationOptions::Validate() const {
   if (num_points < 0) {
     return Status::Error("simulation option num_points must be >= 0");
   }
+  if (points_per_place < 0) {
+    return Status::Error("simulation option points_per_place must be >= 0");
+  }
   if (num_hypotheses < 1) {
     return Status::Error("simulation option num_hypotheses must be >= 1");
   }
@@ -183,6 +286,9 @@ Status SimulationOptions::Validate() const {
   const std::pair<double, const char*> positive[] = {
       {orbit_radius, "orbit_radius"},
       {seconds_per_keyframe, "seconds_per_keyframe"},
+      {route_step, "route_step"},
+      {visit_radius, "visit_radius"},
+      {place_wall_radius, "place_wall_radius"},
       {odometry_sigma_t, "odometry_sigma_t"},
       {odometry_sigma_r, "odometry_sigma_r"},
       {featureless_odometry_sigma_t, "featureless_odometry_sigma_t"},
@@ -201,6 +307,7 @@ Status SimulationOptions::Validate() const {
   }
   const std::pair<double, const char*> non_negative[] = {
       {rich_arc, "rich_arc"},
+      {min_visit_arc, "min_visit_arc"},
       {rich_sigma_t, "rich_sigma_t"},
       {rich_sigma_r, "rich_sigma_r"},
       {yaw_noise, "yaw_noise"},
@@ -245,6 +352,18 @@ Status SimulationOptions::Validate() const {
   }
   if (rich_arc > kTwoPi) {
     return Status::Error("simulation option rich_arc must be <= 2 pi");
+  }
+  if (min_visit_arc > kTwoPi) {
+    return Status::Error("simulation option min_visit_arc must be <= 2 pi");
+  }
+  if (!(visit_radius_variation >= 0.0 && visit_radius_variation < 1.0)) {
+    return Status::Error(
+        "simulation option visit_radius_variation must be in [0, 1)");
+  }
+  if (visit_radius * (1.0 + visit_radius_variation) >= place_wall_radius) {
+    return Status::Error(
+        "simulation options: the visits must lie inside the places' walls "
+        "(visit_radius (1 + visit_radius_variation) < place_wall_radius)");
   }
   if (continuous_arc > kTwoPi) {
     return Status::Error("simulation option continuous_arc must be <= 2 pi");

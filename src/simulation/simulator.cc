@@ -15,6 +15,7 @@
 
 #include <Eigen/Geometry>
 
+#include "simulation/trajectory.h"
 #include "symba/backend/estimates.h"
 #include "symba/geometry/angle.h"
 #include "symba/geometry/so3.h"
@@ -227,6 +228,94 @@ DetectionInput GenerateDetection(const SimulationOptions& options,
   return detection;
 }
 
+// `count` points on a vertical cylinder of `radius` about `centre`, on the
+// arc that faces the rich bearings (the rich arc turned by pi).
+void AddWallPoints(const SimulationOptions& options,
+                   const Eigen::Vector2d& centre,
+                   double radius,
+                   int count,
+                   Random* random,
+                   std::vector<Eigen::Vector3d>* points_w) {
+  const double wall_start = options.rich_arc_start + kPi;
+  for (int i = 0; i < count; ++i) {
+    const double angle = wall_start + options.rich_arc * random->Uniform01();
+    const double z = random->Uniform(options.wall_z_min, options.wall_z_max);
+    points_w->emplace_back(centre.x() + radius * std::cos(angle),
+                           centre.y() + radius * std::sin(angle),
+                           z);
+  }
+}
+
+// The textured walls: one about the origin for an orbit scene, one about
+// every place for a route scene.
+std::vector<Eigen::Vector3d> WallPoints(const Scene& scene,
+                                        const SimulationOptions& options,
+                                        Random* random) {
+  std::vector<Eigen::Vector3d> points_w;
+  if (scene.places.empty()) {
+    AddWallPoints(options,
+                  Eigen::Vector2d::Zero(),
+                  options.wall_radius,
+                  options.num_points,
+                  random,
+                  &points_w);
+  }
+  for (const Eigen::Vector2d& centre : scene.places) {
+    AddWallPoints(options,
+                  centre,
+                  options.place_wall_radius,
+                  options.points_per_place,
+                  random,
+                  &points_w);
+  }
+  return points_w;
+}
+
+// The index range [first, last) of the points the front end tracks from
+// `view`: all of them on the orbit, the wall of the place looked at on a
+// route (WallPoints adds points_per_place points per place, in order).
+std::pair<size_t, size_t> TrackedPoints(const SimulationOptions& options,
+                                        const CameraView& view,
+                                        size_t num_points) {
+  if (view.place < 0) return {0, num_points};
+  const size_t per_place = static_cast<size_t>(options.points_per_place);
+  const size_t first = static_cast<size_t>(view.place) * per_place;
+  return {first, first + per_place};
+}
+
+// Appends the observations of points_w[first, last) from T_cw: every point
+// in front of the camera (depth >= min_point_depth) whose noisy pixel lies
+// in the image; with depth on a point's first observation, or on every one
+// with depth_every_observation.
+void ObservePoints(const SimulationOptions& options,
+                   const std::vector<Eigen::Vector3d>& points_w,
+                   size_t first,
+                   size_t last,
+                   const Rigid3d& T_cw,
+                   Random* random,
+                   std::vector<bool>* point_seen,
+                   std::vector<PointObservation>* observations) {
+  for (size_t i = first; i < last; ++i) {
+    const Eigen::Vector3d p_c = T_cw * points_w[i];
+    Eigen::Vector2d uv;
+    if (!Project(options.intrinsics, p_c, options.min_point_depth, &uv)) {
+      continue;
+    }
+    const double nu = random->Normal(options.pixel_sigma);
+    const double nv = random->Normal(options.pixel_sigma);
+    uv += Eigen::Vector2d(nu, nv);
+    if (!InImage(options, uv)) continue;
+    PointObservation obs;
+    obs.id = static_cast<int64_t>(i);
+    obs.uv = uv;
+    if (options.depth_every_observation || !(*point_seen)[i]) {
+      obs.depth = std::max(1e-3, p_c.z() + random->Normal(options.depth_sigma));
+      (*point_seen)[i] = true;
+    }
+    observations->push_back(obs);
+  }
+}
+
 std::string FormatGroundTruthObjects(const SimulatedSequence& sequence) {
   std::vector<GroundTruthObject> objects;
   for (size_t i = 0; i < sequence.objects.size(); ++i) {
@@ -282,30 +371,20 @@ Status Simulate(const std::string& scene_name,
     }
   }
 
-  Random random(seed);
+  std::vector<CameraView> views;
+  status = TrajectoryViews(scene, options, &views);
+  if (!status.ok()) return status;
 
-  // The textured wall faces the rich cameras: the rich arc turned by pi.
-  const double wall_start = options.rich_arc_start + kPi;
-  for (int i = 0; i < options.num_points; ++i) {
-    const double angle = wall_start + options.rich_arc * random.Uniform01();
-    const double z = random.Uniform(options.wall_z_min, options.wall_z_max);
-    seq.points_w.emplace_back(options.wall_radius * std::cos(angle),
-                              options.wall_radius * std::sin(angle),
-                              z);
-  }
+  Random random(seed);
+  seq.points_w = WallPoints(scene, options, &random);
   std::vector<bool> point_seen(seq.points_w.size(), false);
   std::vector<int> previous_dominant(seq.objects.size(), -1);
 
-  const Eigen::Vector3d target(0.0, 0.0, options.look_at_height);
   Rigid3d T_wc_fe;
   for (int k = 0; k < options.num_keyframes; ++k) {
-    const double phi = options.start_angle + kTwoPi * static_cast<double>(k) /
-                                                 options.keyframes_per_loop;
-    const Eigen::Vector3d eye(options.orbit_radius * std::cos(phi),
-                              options.orbit_radius * std::sin(phi),
-                              options.camera_height);
-    const Rigid3d T_wc = LookAt(eye, target);
-    const bool rich = InArc(phi, options.rich_arc_start, options.rich_arc);
+    const Rigid3d T_wc = LookAt(views[k].eye, views[k].target);
+    const bool rich =
+        InArc(views[k].bearing, options.rich_arc_start, options.rich_arc);
     seq.T_wc_true.push_back(T_wc);
     seq.rich.push_back(rich);
 
@@ -354,26 +433,16 @@ Status Simulate(const std::string& scene_name,
     const Rigid3d T_cw = T_wc.Inverse();
     // Points: rich keyframes only.
     if (rich) {
-      for (size_t i = 0; i < seq.points_w.size(); ++i) {
-        const Eigen::Vector3d p_c = T_cw * seq.points_w[i];
-        Eigen::Vector2d uv;
-        if (!Project(options.intrinsics, p_c, options.min_point_depth, &uv)) {
-          continue;
-        }
-        const double nu = random.Normal(options.pixel_sigma);
-        const double nv = random.Normal(options.pixel_sigma);
-        uv += Eigen::Vector2d(nu, nv);
-        if (!InImage(options, uv)) continue;
-        PointObservation obs;
-        obs.id = static_cast<int64_t>(i);
-        obs.uv = uv;
-        if (options.depth_every_observation || !point_seen[i]) {
-          obs.depth =
-              std::max(1e-3, p_c.z() + random.Normal(options.depth_sigma));
-          point_seen[i] = true;
-        }
-        input.points.push_back(obs);
-      }
+      const auto [first, last] =
+          TrackedPoints(options, views[k], seq.points_w.size());
+      ObservePoints(options,
+                    seq.points_w,
+                    first,
+                    last,
+                    T_cw,
+                    &random,
+                    &point_seen,
+                    &input.points);
     }
 
     // Detections.

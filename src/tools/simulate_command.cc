@@ -1,7 +1,8 @@
 // `symba simulate`: simulates a scene and writes log.jsonl,
 // gt_trajectory.tum and gt_objects.json atomically (docs/simulation.md).
 // Every SimulationOptions field is a flag with its default; angles are in
-// degrees on the command line.
+// degrees on the command line. Without --keyframes a scene gets its own
+// default number of keyframes (Scene::default_num_keyframes).
 #include <cstdint>
 #include <cstdio>
 #include <memory>
@@ -33,16 +34,21 @@ struct SimulateFlags {
   uint32_t seed = 1;
   bool quiet = false;
   symba::SimulationOptions options;
+  const CLI::Option* keyframes = nullptr;  // --keyframes, to see if given
   std::vector<DegreeFlag> degree_flags = {
       {"--start-angle",
        &symba::SimulationOptions::start_angle,
-       "orbit angle of keyframe 0 (degrees)"},
+       "orbit scenes: orbit angle of keyframe 0 (degrees)"},
+      {"--min-visit-arc",
+       &symba::SimulationOptions::min_visit_arc,
+       "route scenes: least arc circled about a place per visit (degrees)"},
       {"--rich-arc-start",
        &symba::SimulationOptions::rich_arc_start,
-       "orbit angle where the feature-rich arc begins (degrees)"},
+       "bearing where the feature-rich arc begins (degrees; on the orbit, "
+       "the orbit angle)"},
       {"--rich-arc",
        &symba::SimulationOptions::rich_arc,
-       "length of the feature-rich arc of the orbit (degrees)"},
+       "length of the feature-rich arc of bearings (degrees)"},
       {"--rich-sigma-r",
        &symba::SimulationOptions::rich_sigma_r,
        "front-end rotation noise per rich keyframe (degrees per axis)"},
@@ -86,6 +92,19 @@ std::string SceneHelp() {
   return help;
 }
 
+std::string KeyframesHelp() {
+  std::string help = "number of keyframes; default: the scene's (";
+  const int common = symba::SimulationOptions().num_keyframes;
+  for (const std::string& name : symba::SceneNames()) {
+    symba::Scene scene;
+    if (symba::MakeScene(name, &scene).ok() &&
+        scene.default_num_keyframes != common) {
+      help += name + ": " + std::to_string(scene.default_num_keyframes) + ", ";
+    }
+  }
+  return help + "else the value shown)";
+}
+
 // Adds the degree flag `name` of f->degree_flags.
 void AddDegreeOption(CLI::App* cmd, SimulateFlags* f, const std::string& name) {
   for (DegreeFlag& flag : f->degree_flags) {
@@ -100,9 +119,9 @@ void AddDegreeOption(CLI::App* cmd, SimulateFlags* f, const std::string& name) {
 CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
   CLI::App* cmd = app->add_subcommand(
       "simulate",
-      "Simulate a camera orbiting a scene (feature-rich and featureless "
-      "sides, multi-hypothesis detections) and write log.jsonl, "
-      "gt_trajectory.tum and gt_objects.json");
+      "Simulate a camera orbiting a scene or touring its places "
+      "(feature-rich and featureless views, multi-hypothesis detections) "
+      "and write log.jsonl, gt_trajectory.tum and gt_objects.json");
   symba::SimulationOptions& o = f->options;
   cmd->add_option("--scene", f->scene, SceneHelp())
       ->required()
@@ -114,14 +133,17 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
   cmd->add_option("--seed", f->seed, "random seed")->capture_default_str();
 
   // Trajectory.
-  cmd->add_option("--keyframes", o.num_keyframes, "number of keyframes")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  cmd->add_option(
-         "--keyframes-per-loop", o.keyframes_per_loop, "keyframes per orbit")
+  f->keyframes =
+      cmd->add_option("--keyframes", o.num_keyframes, KeyframesHelp())
+          ->check(CLI::PositiveNumber)
+          ->capture_default_str();
+  cmd->add_option("--keyframes-per-loop",
+                  o.keyframes_per_loop,
+                  "orbit scenes: keyframes per orbit")
       ->check(CLI::Range(2, 1000000))
       ->capture_default_str();
-  cmd->add_option("--orbit-radius", o.orbit_radius, "orbit radius (m)")
+  cmd->add_option(
+         "--orbit-radius", o.orbit_radius, "orbit scenes: orbit radius (m)")
       ->capture_default_str();
   cmd->add_option(
          "--camera-height", o.camera_height, "camera height above floor (m)")
@@ -135,6 +157,22 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
                   o.seconds_per_keyframe,
                   "time between keyframes (s)")
       ->capture_default_str();
+
+  // Route (scenes with places).
+  cmd->add_option("--route-step",
+                  o.route_step,
+                  "route scenes: path length between keyframes (m)")
+      ->capture_default_str();
+  cmd->add_option("--visit-radius",
+                  o.visit_radius,
+                  "route scenes: radius of the circle about a place (m)")
+      ->capture_default_str();
+  cmd->add_option("--visit-radius-variation",
+                  o.visit_radius_variation,
+                  "route scenes: relative change of the visit radius from "
+                  "visit to visit, in [0, 1)")
+      ->capture_default_str();
+  AddDegreeOption(cmd, f, "--min-visit-arc");
 
   // Feature-rich and featureless sides.
   AddDegreeOption(cmd, f, "--rich-arc-start");
@@ -156,7 +194,7 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
       ->capture_default_str();
   cmd->add_flag("--relocalize-on-rich",
                 o.relocalize_on_rich,
-                "reset the front end to the truth on the rich side");
+                "reset the front end to the truth on rich keyframes");
   cmd->add_option("--with-odometry",
                   o.with_odometry,
                   "also write the front end's relative motion as odometry "
@@ -180,10 +218,21 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
       ->capture_default_str();
 
   // Map points.
-  cmd->add_option("--points", o.num_points, "map points on the textured wall")
+  cmd->add_option(
+         "--points", o.num_points, "orbit scenes: map points on the wall")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  cmd->add_option("--wall-radius", o.wall_radius, "wall radius (m)")
+  cmd->add_option(
+         "--wall-radius", o.wall_radius, "orbit scenes: wall radius (m)")
+      ->capture_default_str();
+  cmd->add_option("--points-per-place",
+                  o.points_per_place,
+                  "route scenes: map points on the wall about each place")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--place-wall-radius",
+                  o.place_wall_radius,
+                  "route scenes: radius of the wall about each place (m)")
       ->capture_default_str();
   cmd->add_option("--wall-z-min", o.wall_z_min, "lowest wall point (m)")
       ->capture_default_str();
@@ -284,6 +333,10 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
 int RunSimulate(SimulateFlags* f) {
   for (const DegreeFlag& flag : f->degree_flags) {
     f->options.*(flag.field) = flag.degrees * kDeg;
+  }
+  symba::Scene scene;
+  if (f->keyframes->count() == 0 && symba::MakeScene(f->scene, &scene).ok()) {
+    f->options.num_keyframes = scene.default_num_keyframes;
   }
   symba::SimulatedSequence sequence;
   symba::Status status =

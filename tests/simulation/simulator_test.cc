@@ -454,6 +454,261 @@ TEST(Simulation, PointsLieOnTheRichSideAndAreObservedOnlyWhereVisible) {
 }
 
 // ---------------------------------------------------------------------------
+// The long scene: places toured lap after lap.
+
+SimulationOptions LongOptions(int keyframes) {
+  SimulationOptions options;
+  options.num_keyframes = keyframes;
+  return options;
+}
+
+// The place whose centre is nearest `xy`.
+int NearestPlace(const Scene& scene, const Eigen::Vector2d& xy) {
+  int nearest = 0;
+  for (size_t p = 1; p < scene.places.size(); ++p) {
+    if ((scene.places[p] - xy).norm() < (scene.places[nearest] - xy).norm()) {
+      nearest = static_cast<int>(p);
+    }
+  }
+  return nearest;
+}
+
+TEST(Simulation, LongSceneHasPlacesOfSeparableObjectsOfEveryType) {
+  Scene scene;
+  ASSERT_TRUE(MakeScene("long", &scene).ok());
+  EXPECT_GE(scene.objects.size(), 20u);
+  ASSERT_GE(scene.places.size(), 6u);
+  EXPECT_EQ(scene.tour.size(), scene.places.size());
+  std::set<std::pair<SymmetryType, int>> types;
+  std::map<int, std::vector<Eigen::Vector2d>> by_place;
+  for (const SimulatedObject& o : scene.objects) {
+    types.insert({o.symmetry, o.order});
+    const Eigen::Vector2d xy = o.T_wo.t.head<2>();
+    const int place = NearestPlace(scene, xy);
+    EXPECT_LT((xy - scene.places[place]).norm(), 1.5) << o.class_name;
+    by_place[place].push_back(xy);
+  }
+  EXPECT_TRUE(types.count({SymmetryType::kAsymmetric, 0}));
+  EXPECT_TRUE(types.count({SymmetryType::kDiscrete, 2}));
+  EXPECT_TRUE(types.count({SymmetryType::kDiscrete, 4}));
+  EXPECT_TRUE(types.count({SymmetryType::kContinuous, 0}));
+  // Clusters of 3-5 objects, at least 1.3 m apart; places 6-8 m apart.
+  ASSERT_EQ(by_place.size(), scene.places.size());
+  for (const auto& [place, xys] : by_place) {
+    SCOPED_TRACE(place);
+    EXPECT_GE(xys.size(), 3u);
+    EXPECT_LE(xys.size(), 5u);
+    for (size_t i = 0; i < xys.size(); ++i) {
+      for (size_t j = i + 1; j < xys.size(); ++j) {
+        EXPECT_GE((xys[i] - xys[j]).norm(), 1.3);
+      }
+    }
+  }
+  for (size_t p = 0; p < scene.places.size(); ++p) {
+    const int q = scene.tour[(p + 1) % scene.tour.size()];
+    const double d = (scene.places[scene.tour[p]] - scene.places[q]).norm();
+    EXPECT_GE(d, 6.0);
+    EXPECT_LE(d, 8.0);
+  }
+}
+
+TEST(Simulation, LongSceneDefaultsToTenThousandKeyframesOthersTo72) {
+  for (const std::string& name : SceneNames()) {
+    SCOPED_TRACE(name);
+    Scene scene;
+    ASSERT_TRUE(MakeScene(name, &scene).ok());
+    if (name == "long") {
+      EXPECT_GE(scene.default_num_keyframes, 10000);
+    } else {
+      EXPECT_EQ(scene.default_num_keyframes, 72);
+      EXPECT_TRUE(scene.places.empty());
+    }
+  }
+  EXPECT_EQ(SimulationOptions().num_keyframes, 72);
+  // num_keyframes is what Simulate simulates, whatever the scene.
+  EXPECT_EQ(MustSimulate("long", LongOptions(300), 1).keyframes.size(), 300u);
+}
+
+// Per object, the keyframes that detected it.
+std::map<int, std::vector<int>> DetectingKeyframes(
+    const SimulatedSequence& seq) {
+  std::map<int, std::vector<int>> keyframes;
+  for (size_t k = 0; k < seq.detections.size(); ++k) {
+    for (const SimulatedDetectionTruth& truth : seq.detections[k]) {
+      keyframes[truth.object].push_back(static_cast<int>(k));
+    }
+  }
+  return keyframes;
+}
+
+TEST(Simulation, LongRouteRevisitsItsPlaces) {
+  const SimulatedSequence seq = MustSimulate("long", LongOptions(400), 2);
+  const std::map<int, std::vector<int>> detected = DetectingKeyframes(seq);
+  // The first lap sees every object.
+  EXPECT_EQ(detected.size(), seq.objects.size());
+  // What the first place shows is shown again a lap (about 260 keyframes)
+  // later, and not in between.
+  std::set<int> first_place;
+  for (int k = 0; k < 15; ++k) {
+    for (const SimulatedDetectionTruth& truth : seq.detections[k]) {
+      first_place.insert(truth.object);
+    }
+  }
+  EXPECT_GE(first_place.size(), 2u);
+  for (const int o : first_place) {
+    SCOPED_TRACE(o);
+    const std::vector<int>& ks = detected.at(o);
+    EXPECT_EQ(
+        std::count_if(
+            ks.begin(), ks.end(), [](int k) { return k >= 60 && k < 200; }),
+        0);
+    EXPECT_GT(
+        std::count_if(ks.begin(), ks.end(), [](int k) { return k >= 200; }), 5);
+  }
+  // Objects seen in two intervals at least 100 keyframes apart: the first
+  // place and the place the first lap reaches last but one.
+  int revisited = 0;
+  for (const auto& [object, ks] : detected) {
+    for (size_t i = 1; i < ks.size(); ++i) {
+      if (ks[i] - ks[i - 1] >= 100) {
+        ++revisited;
+        break;
+      }
+    }
+  }
+  EXPECT_GE(revisited, 6);
+}
+
+// Over seven laps every object comes back lap after lap: its detections
+// fall into at least 4 visits (runs without a gap of 50 keyframes; the
+// places next to tour[0] are passed twice in a row, around the U-turn at
+// tour[0] between laps, so some of their objects count only 4 or 5).
+TEST(Simulation, LongRouteRevisitsEveryObjectManyTimes) {
+  const SimulatedSequence seq = MustSimulate("long", LongOptions(2000), 2);
+  const std::map<int, std::vector<int>> detected = DetectingKeyframes(seq);
+  ASSERT_EQ(detected.size(), seq.objects.size());
+  for (const auto& [object, ks] : detected) {
+    SCOPED_TRACE(object);
+    int visits = 1;
+    for (size_t i = 1; i < ks.size(); ++i) {
+      if (ks[i] - ks[i - 1] >= 50) ++visits;
+    }
+    EXPECT_GE(visits, 4);
+  }
+}
+
+TEST(Simulation, LongRouteIsNotACircleAndMovesInSmallSteps) {
+  const SimulationOptions options = LongOptions(400);
+  const SimulatedSequence seq = MustSimulate("long", options, 2);
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const Rigid3d& T : seq.T_wc_true) centroid += T.t;
+  centroid /= static_cast<double>(seq.T_wc_true.size());
+  double nearest = 1e9;
+  double farthest = 0.0;
+  for (const Rigid3d& T : seq.T_wc_true) {
+    nearest = std::min(nearest, (T.t - centroid).norm());
+    farthest = std::max(farthest, (T.t - centroid).norm());
+  }
+  EXPECT_GT(farthest - nearest, 5.0);  // an orbit: 0
+  // Keyframes route_step apart along the path (a chord is shorter), turning
+  // at most route_step / r_min = 0.35 / 2.125 rad = 9.4 degrees.
+  for (size_t k = 1; k < seq.T_wc_true.size(); ++k) {
+    SCOPED_TRACE(k);
+    const Rigid3d& a = seq.T_wc_true[k - 1];
+    const Rigid3d& b = seq.T_wc_true[k];
+    EXPECT_LE((b.t - a.t).norm(), options.route_step + 1e-9);
+    EXPECT_GE((b.t - a.t).norm(), 0.9 * options.route_step);
+    EXPECT_LE(RotationAngle(a.q, b.q), 9.5 * kDeg);
+    EXPECT_EQ(b.t.z(), options.camera_height);
+  }
+  // Most keyframes see an object.
+  int blind = 0;
+  for (const auto& truths : seq.detections) blind += truths.empty() ? 1 : 0;
+  EXPECT_LT(blind, 400 / 5);
+}
+
+TEST(Simulation, LongRouteHasRichAndFeaturelessStretchesWithFewPoints) {
+  const SimulationOptions opt = LongOptions(600);
+  const SimulatedSequence seq = MustSimulate("long", opt, 3);
+  Scene scene;
+  ASSERT_TRUE(MakeScene("long", &scene).ok());
+  ASSERT_EQ(seq.points_w.size(), scene.places.size() * opt.points_per_place);
+  // Each place's wall: a cylinder of place_wall_radius about it, on the side
+  // facing the rich bearings [0, pi): y <= the place's y.
+  for (size_t i = 0; i < seq.points_w.size(); ++i) {
+    const Eigen::Vector2d& c = scene.places[i / opt.points_per_place];
+    const Eigen::Vector3d& p = seq.points_w[i];
+    EXPECT_NEAR((p.head<2>() - c).norm(), opt.place_wall_radius, 1e-9);
+    EXPECT_LE(p.y(), c.y() + 1e-9);
+  }
+  int rich = 0;
+  int observations = 0;
+  std::set<int64_t> seen;
+  double featureless_yaw = 0.0;
+  for (size_t k = 0; k < seq.keyframes.size(); ++k) {
+    SCOPED_TRACE(k);
+    const KeyframeInput& kf = seq.keyframes[k];
+    EXPECT_LE(kf.points.size(), 60u);
+    if (!seq.rich[k]) {
+      EXPECT_TRUE(kf.points.empty());
+      if (k > 0) featureless_yaw += FrontendMotionError(seq, k).yaw;
+      continue;
+    }
+    ++rich;
+    observations += static_cast<int>(kf.points.size());
+    // One wall at a time: the points of one place.
+    std::set<int64_t> places;
+    for (const PointObservation& obs : kf.points) {
+      places.insert(obs.id / opt.points_per_place);
+      seen.insert(obs.id);
+    }
+    EXPECT_LE(places.size(), 1u);
+    if (k > 0) {
+      EXPECT_LT(FrontendMotionError(seq, k).rotation,
+                kSigmas * opt.rich_sigma_r);
+    }
+  }
+  const int featureless = static_cast<int>(seq.keyframes.size()) - rich;
+  EXPECT_GT(rich, 600 / 3);
+  EXPECT_GT(featureless, 600 / 3);
+  EXPECT_GT(observations, 20 * rich);  // about 30 per rich keyframe
+  EXPECT_GT(seen.size(), seq.points_w.size() / 2);
+  // The front end drifts by the yaw bias on featureless keyframes only.
+  EXPECT_NEAR(featureless_yaw / featureless, opt.yaw_bias, 0.3 * kDeg);
+}
+
+TEST(Simulation, LongRouteIsDeterministicAndItsDetectionsMatchTheTruth) {
+  const SimulatedSequence seq = MustSimulate("long", LongOptions(300), 4);
+  const auto a = Files(seq);
+  const auto b = Files(MustSimulate("long", LongOptions(300), 4));
+  const auto c = Files(MustSimulate("long", LongOptions(300), 5));
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a.at("log.jsonl"), c.at("log.jsonl"));
+  EXPECT_EQ(a.at("gt_trajectory.tum"), c.at("gt_trajectory.tum"));
+  ExpectDetectionsMatchTruth(seq);
+}
+
+TEST(Simulation, RouteOptionsAreValidated) {
+  SimulatedSequence seq;
+  SimulationOptions options = LongOptions(10);
+  options.visit_radius_variation = 1.0;
+  Status status = Simulate("long", options, 1, &seq);
+  ASSERT_FALSE(status.ok());
+  EXPECT_THAT(status.message(), HasSubstr("visit_radius_variation"));
+  options = LongOptions(10);
+  options.visit_radius = 4.0;
+  status = Simulate("long", options, 1, &seq);
+  ASSERT_FALSE(status.ok());
+  EXPECT_THAT(status.message(), HasSubstr("place_wall_radius"));
+  // Circles of 0.4 and 7.6 m about places 7 m apart have no common tangent.
+  options.visit_radius_variation = 0.9;
+  options.place_wall_radius = 8.0;
+  status = Simulate("long", options, 1, &seq);
+  ASSERT_FALSE(status.ok());
+  EXPECT_THAT(status.message(), HasSubstr("too close"));
+}
+
+// ---------------------------------------------------------------------------
 // Files.
 
 TEST(Simulation, RgbdFrontEndGivesEveryObservationItsDepth) {

@@ -1,6 +1,7 @@
 # Runs `symba simulate` as a user would: the three files appear, the ground
 # truth has one trajectory line per keyframe and the documented JSON shape,
-# and an unknown scene fails without leaving anything behind.
+# and an unknown scene fails without leaving anything behind; --keyframes
+# overrides the long scene's own default, and `symba replay` reads its log.
 # Inputs: SYMBA (the binary), WORK_DIR.
 cmake_minimum_required(VERSION 3.16)  # quoted strings are not variables
 file(REMOVE_RECURSE ${WORK_DIR})
@@ -42,4 +43,23 @@ endif()
 file(GLOB entries RELATIVE ${WORK_DIR} ${WORK_DIR}/* ${WORK_DIR}/.*)
 if(NOT entries STREQUAL "out")
   message(FATAL_ERROR "stray files beside the output: ${entries}")
+endif()
+
+# The long scene with --keyframes: that many keyframes (not its default of
+# 10000), a log `symba replay` accepts.
+set(long ${WORK_DIR}/long)
+execute_process(COMMAND ${SYMBA} simulate --scene long --keyframes 40 --out ${long}
+  RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr)
+if(NOT rc EQUAL 0 OR NOT stdout MATCHES "scene long, seed 1: 40 keyframes")
+  message(FATAL_ERROR "symba simulate --scene long failed (${rc}): ${stdout}${stderr}")
+endif()
+file(STRINGS ${long}/gt_trajectory.tum lines)
+list(LENGTH lines n)
+if(NOT n EQUAL 40)
+  message(FATAL_ERROR "long: gt_trajectory.tum has ${n} lines, expected 40")
+endif()
+execute_process(COMMAND ${SYMBA} replay ${long}/log.jsonl --out ${WORK_DIR}/long_replay
+  RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr)
+if(NOT rc EQUAL 0 OR NOT EXISTS ${WORK_DIR}/long_replay/trajectory.tum)
+  message(FATAL_ERROR "symba replay of the long scene failed (${rc}): ${stderr}")
 endif()

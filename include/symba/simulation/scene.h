@@ -2,7 +2,8 @@
 // simulation experiment (Sec. VI-A), a camera orbiting objects at the centre
 // of a room whose one side is feature-rich and whose other side is
 // featureless, rebuilt so that every knob that makes it harder or easier is
-// a documented field with a default.
+// a documented field with a default; and a long scene for scale, a camera
+// touring several places of objects lap after lap.
 //
 // World frame: z up, the floor is z = 0, the orbit's centre is the origin.
 // Objects stand on the floor; T_wo places an object's frame at the centre of
@@ -18,6 +19,9 @@
 //   room    a rectangular table at the centre, two round tables 1.3 m
 //           apart, a chair, and a three-fold "prism" lying with its
 //           symmetry axis (object x) tilted 30 degrees above the floor
+//   long    23 objects of every kind at six places of 3-5 objects (a 3 x 2
+//           grid, 7 m apart), toured by the camera lap after lap (the
+//           route of SimulationOptions); 10,000 keyframes by default
 #ifndef SYMBA_SIMULATION_SCENE_H_
 #define SYMBA_SIMULATION_SCENE_H_
 
@@ -48,6 +52,14 @@ struct Scene {
   std::string name;
   std::string description;  // one line, for --help and the docs
   std::vector<SimulatedObject> objects;
+  // Route scenes: the places' centres on the floor (x, y in m) and one lap
+  // of the tour, as indices into places. Empty: the camera orbits the
+  // origin.
+  std::vector<Eigen::Vector2d> places;
+  std::vector<int> tour;
+  // The keyframes `symba simulate` writes when --keyframes is not given.
+  // Simulate itself always simulates SimulationOptions::num_keyframes.
+  int default_num_keyframes = 72;
 };
 
 // The scene names MakeScene accepts, in a fixed order.
@@ -60,7 +72,8 @@ Status MakeScene(const std::string& name, Scene* scene);
 // are metres, radians and seconds (the command line takes degrees).
 struct SimulationOptions {
   // --- Trajectory -------------------------------------------------------
-  // Keyframe k sits at orbit angle start_angle + 2 pi k / keyframes_per_loop
+  // Orbit scenes (no places): keyframe k sits at orbit angle
+  // start_angle + 2 pi k / keyframes_per_loop
   // on a circle of orbit_radius about the origin, camera_height above the
   // floor, looking at (0, 0, look_at_height). 72 keyframes are two loops of
   // 36 (10 degrees apart): the second loop returns to the rich side after
@@ -73,10 +86,31 @@ struct SimulationOptions {
   double start_angle = 0.0;     // rad, orbit angle of keyframe 0
   double seconds_per_keyframe = 0.5;
 
+  // --- Route (scenes with places: long) ---------------------------------
+  // The camera tours the places lap after lap: even laps visit scene.tour
+  // in order, odd laps in reverse, every lap starting at tour[0]. At each
+  // visit it circles the place counter-clockwise on a circle of radius
+  //   r = visit_radius (1 + visit_radius_variation w),
+  //   w = (lap + position in the lap) mod 3 - 1,
+  // camera_height above the floor, looking at the place's centre at
+  // look_at_height, through the turn to the next place wrapped into
+  // [min_visit_arc, min_visit_arc + 2 pi) (a place passed straight by is
+  // circled once). It then leaves along the common tangent to the next
+  // place's circle, looking sideways at a point sliding from the one
+  // centre to the other. Keyframes are route_step apart along the path
+  // (on a circle, route_step / r rad of rotation; orbit options unused).
+  double route_step = 0.35;                   // m
+  double visit_radius = 2.5;                  // m
+  double visit_radius_variation = 0.15;       // relative, in [0, 1)
+  double min_visit_arc = 60.0 * kPi / 180.0;  // rad
+
   // --- Feature-rich and featureless sides -------------------------------
-  // Keyframes whose orbit angle lies in [rich_arc_start, rich_arc_start +
-  // rich_arc) (modulo 2 pi) are "rich": they look across the centre at a
-  // textured wall and see map points. The others look at a blank wall.
+  // A keyframe's bearing is the azimuth of the camera seen from the point
+  // it looks at: the orbit angle on the orbit, the angle about the place
+  // on a route's circle. Keyframes whose bearing lies in [rich_arc_start,
+  // rich_arc_start + rich_arc) (modulo 2 pi) are "rich": they look at a
+  // textured wall behind the objects and see map points. The others look
+  // at a blank wall.
   double rich_arc_start = 0.0;  // rad
   double rich_arc = kPi;        // rad; pi = half the orbit
 
@@ -114,19 +148,23 @@ struct SimulationOptions {
   double featureless_odometry_sigma_r = 0.04;  // rad
 
   // --- Map points --------------------------------------------------------
-  // num_points points on a vertical cylinder of wall_radius about the
-  // origin, between wall_z_min and wall_z_max, on the arc facing the rich
-  // cameras (the orbit's rich arc turned by pi). Rich keyframes observe the
+  // Orbit scenes: num_points points on a vertical cylinder of wall_radius
+  // about the origin, between wall_z_min and wall_z_max, on the arc facing
+  // the rich cameras (the rich bearings turned by pi). Route scenes:
+  // points_per_place such points about each place, on a cylinder of
+  // place_wall_radius about its centre. Rich keyframes observe the
   // points in front of them (depth >= min_point_depth) whose noisy pixel
   // lies inside the image; featureless keyframes report no points. With
   // depth_every_observation (an RGB-D front end, the paper's setting) every
   // observation carries the point's noisy depth, otherwise only its first.
   int num_points = 300;
-  double wall_radius = 5.0;   // m
-  double wall_z_min = 0.0;    // m
-  double wall_z_max = 2.0;    // m
-  double pixel_sigma = 1.0;   // px per axis
-  double depth_sigma = 0.02;  // m
+  double wall_radius = 5.0;  // m
+  int points_per_place = 80;
+  double place_wall_radius = 3.6;  // m
+  double wall_z_min = 0.0;         // m
+  double wall_z_max = 2.0;         // m
+  double pixel_sigma = 1.0;        // px per axis
+  double depth_sigma = 0.02;       // m
   bool depth_every_observation = false;
   double min_point_depth = 0.3;  // m
   PinholeIntrinsics intrinsics{525.0, 525.0, 319.5, 239.5};

@@ -1,7 +1,8 @@
-// The simulator (docs/simulation.md): a scene of scene.h, orbited by a
-// camera whose front end drifts on the featureless side, observed by a
-// multi-hypothesis detector; the KeyframeInputs a front end would hand the
-// backend, with the ground truth that generated them.
+// The simulator (docs/simulation.md): a scene of scene.h, orbited (or, for
+// a scene with places, toured lap after lap) by a camera whose front end
+// drifts on featureless keyframes, observed by a multi-hypothesis detector;
+// the KeyframeInputs a front end would hand the backend, with the ground
+// truth that generated them.
 //
 // Output directory of WriteSimulation (written atomically, complete or
 // nothing):

@@ -63,8 +63,7 @@ int Backend::Impl::WindowStart() const {
 // Keyframes.
 
 Status Backend::Impl::AddKeyframe(
-    const KeyframeInput& input,
-    std::vector<DetectionAssignment>* assignments) {
+    const KeyframeInput& input, std::vector<DetectionAssignment>* assignments) {
   std::optional<internal::PreviousKeyframe> previous;
   if (!keyframes_.empty()) {
     previous = internal::PreviousKeyframe{keyframes_.back()->id,
@@ -194,7 +193,8 @@ std::vector<int> Backend::Impl::WindowFactors(int first_free) const {
   std::sort(points.begin(), points.end());
   points.erase(std::unique(points.begin(), points.end()), points.end());
   for (int p : points) {
-    if (points_[p]->prior_factor >= 0) active.push_back(points_[p]->prior_factor);
+    if (points_[p]->prior_factor >= 0)
+      active.push_back(points_[p]->prior_factor);
   }
   return active;
 }
@@ -247,7 +247,8 @@ Status Backend::Impl::OptimizeWindow(SolveReport* report) {
     if (policy == WindowPolicy::kDrop) gauge = first;
   }
   const int free_keyframes = SetKeyframeFreedom(first, gauge);
-  return Solve("window", options_.max_iterations, free_keyframes, start, report);
+  return Solve(
+      "window", options_.max_iterations, free_keyframes, start, report);
 }
 
 Status Backend::Impl::OptimizeBatch(SolveReport* report) {
@@ -327,13 +328,12 @@ std::vector<MapObjectEstimate> Backend::Impl::Objects() const {
 
 std::optional<KeyframeEstimate> Backend::Impl::Keyframe(KeyframeId id) const {
   // Keyframe ids are strictly increasing.
-  const auto it = std::lower_bound(
-      keyframes_.begin(),
-      keyframes_.end(),
-      id,
-      [](const std::unique_ptr<KeyframeState>& kf, KeyframeId value) {
-        return kf->id < value;
-      });
+  const auto it =
+      std::lower_bound(keyframes_.begin(),
+                       keyframes_.end(),
+                       id,
+                       [](const std::unique_ptr<KeyframeState>& kf,
+                          KeyframeId value) { return kf->id < value; });
   if (it == keyframes_.end() || (*it)->id != id) return std::nullopt;
   return KeyframeEstimate{(*it)->id, (*it)->timestamp, (*it)->T_wc()};
 }

@@ -102,7 +102,9 @@ class Backend::Impl {
   // Sets the keyframes the problem holds constant or free (free: index >=
   // first_free, not the gauge); returns the free count. O(problem size).
   int SetKeyframeFreedom(int first_free, int gauge);
-  Status Solve(const char* what, int max_iterations, int free_keyframes,
+  Status Solve(const char* what,
+               int max_iterations,
+               int free_keyframes,
                const std::chrono::steady_clock::time_point& start,
                SolveReport* report);
 

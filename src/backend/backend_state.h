@@ -73,7 +73,7 @@ struct ObjectObservation {
   std::vector<PoseComponent> components;  // this edge's hypotheses
   Rigid3d T_co_best;                      // representative hypothesis
   Eigen::Vector3d axis_c = Eigen::Vector3d::Zero();  // measured axis, if any
-  int angle = -1;  // discrete: the angle it constrains; -1: no angle
+  int angle = -1;   // discrete: the angle it constrains; -1: no angle
   int factor = -1;  // its edge's factor index
 };
 

@@ -233,12 +233,12 @@ int Backend::Impl::FirstLiveObservation(int o) const {
   const ObjectState& object = *objects_[o];
   if (options_.window_policy == WindowPolicy::kCondition) return 0;
   // Observations are in keyframe order.
-  const auto first = std::partition_point(
-      object.observations.begin(),
-      object.observations.end(),
-      [this](const ObjectObservation& observation) {
-        return observation.keyframe < marginalized_until_;
-      });
+  const auto first =
+      std::partition_point(object.observations.begin(),
+                           object.observations.end(),
+                           [this](const ObjectObservation& observation) {
+                             return observation.keyframe < marginalized_until_;
+                           });
   return static_cast<int>(first - object.observations.begin());
 }
 

@@ -120,7 +120,8 @@ class Linearizer {
       jacobian_pointers[b] = J_ambient[b].data();
     }
     Eigen::VectorXd r(m);
-    if (!cost.Evaluate(term.blocks.data(), r.data(), jacobian_pointers.data())) {
+    if (!cost.Evaluate(
+            term.blocks.data(), r.data(), jacobian_pointers.data())) {
       return false;
     }
     if (!r.allFinite()) return false;
@@ -163,7 +164,7 @@ class Linearizer {
 
 // Eigenvalues of a symmetric matrix below threshold * the largest are zero.
 struct Spectrum {
-  Eigen::VectorXd values;  // kept eigenvalues (> 0)
+  Eigen::VectorXd values;   // kept eigenvalues (> 0)
   Eigen::MatrixXd vectors;  // their eigenvectors (columns)
 };
 
@@ -245,15 +246,14 @@ Status Marginalize(const std::vector<MarginalizationTerm>& terms,
   Eigen::MatrixXd H_star = H.topLeftCorner(kept_size, kept_size);
   Eigen::VectorXd g_star = g.head(kept_size);
   if (eliminated > 0) {
-    const Spectrum mm = PositiveSpectrum(
-        H.bottomRightCorner(eliminated, eliminated),
-        options.eigenvalue_threshold);
+    const Spectrum mm =
+        PositiveSpectrum(H.bottomRightCorner(eliminated, eliminated),
+                         options.eigenvalue_threshold);
     const Eigen::MatrixXd H_km = H.topRightCorner(kept_size, eliminated);
     // H_km H_mm^+ = (H_km V) diag(1/l) V^T.
     const Eigen::MatrixXd H_km_V = H_km * mm.vectors;
     const Eigen::MatrixXd K =
-        H_km_V * mm.values.cwiseInverse().asDiagonal() *
-        mm.vectors.transpose();
+        H_km_V * mm.values.cwiseInverse().asDiagonal() * mm.vectors.transpose();
     H_star -= K * H_km.transpose();
     g_star -= K * g.tail(eliminated);
   }
@@ -262,8 +262,8 @@ Status Marginalize(const std::vector<MarginalizationTerm>& terms,
   if (kk.values.size() == 0) return Status::Ok();
   const Eigen::VectorXd sqrt_values = kk.values.cwiseSqrt();
   Eigen::MatrixXd A = sqrt_values.asDiagonal() * kk.vectors.transpose();
-  const Eigen::VectorXd e =
-      sqrt_values.cwiseInverse().asDiagonal() * (kk.vectors.transpose() * g_star);
+  const Eigen::VectorXd e = sqrt_values.cwiseInverse().asDiagonal() *
+                            (kk.vectors.transpose() * g_star);
 
   // The prior's blocks: kept blocks with some information.
   const double column_floor = 1e-12 * A.cwiseAbs().maxCoeff();

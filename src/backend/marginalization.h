@@ -41,7 +41,7 @@
 namespace symba::internal {
 
 struct MarginalizationOptions {
-  double min_winner_margin = 2.0;  // cost units (nats)
+  double min_winner_margin = 2.0;       // cost units (nats)
   double eigenvalue_threshold = 1e-10;  // relative to the largest eigenvalue
 };
 
@@ -67,9 +67,9 @@ struct BlockDescription {
 struct MarginalizationResult {
   std::unique_ptr<MarginalPriorFactor> prior;  // null: nothing to keep
   std::vector<double*> blocks;                 // the prior's blocks
-  int linearized = 0;  // terms that entered the prior
-  int ambiguous = 0;   // max-mixtures dropped (margin or null hypothesis)
-  int failed = 0;      // terms dropped because they could not be evaluated
+  int linearized = 0;                          // terms that entered the prior
+  int ambiguous = 0;  // max-mixtures dropped (margin or null hypothesis)
+  int failed = 0;     // terms dropped because they could not be evaluated
 };
 
 using BlockDescriber = std::function<BlockDescription(const double* block)>;

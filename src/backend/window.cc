@@ -43,14 +43,13 @@ std::vector<double*> Backend::Impl::ObjectBlocks(ObjectState& object) {
 
 void Backend::Impl::LeaveWindow(int k) {
   KeyframeState& kf = *keyframes_[k];
-  const bool marginalize =
-      options_.window_policy == WindowPolicy::kMarginalize;
+  const bool marginalize = options_.window_policy == WindowPolicy::kMarginalize;
   std::vector<MarginalizationTerm> terms;
   // Keyframes that left before k and still appear in its factors (a motion
   // factor across a gap in the front end's poses) are constant.
   std::vector<const double*> constant;
   std::vector<int> leaving;
-  std::vector<std::pair<int, int>> point_factors;  // (point, factor)
+  std::vector<std::pair<int, int>> point_factors;   // (point, factor)
   std::vector<std::pair<int, int>> object_factors;  // (object, factor)
   for (int f : kf.factors) {
     const FactorRecord& record = problem_.factor(f);
@@ -90,8 +89,12 @@ void Backend::Impl::LeaveWindow(int k) {
       factors.push_back(point_factors[end++].second);
     }
     internal::PointState& point = *points_[point_factors[i].first];
-    MergeIntoOwnPrior(factors, {point.p}, kPointShare, -1,
-                      point_factors[i].first, &point.prior_factor);
+    MergeIntoOwnPrior(factors,
+                      {point.p},
+                      kPointShare,
+                      -1,
+                      point_factors[i].first,
+                      &point.prior_factor);
     i = end;
   }
   std::sort(object_factors.begin(), object_factors.end());
@@ -103,8 +106,12 @@ void Backend::Impl::LeaveWindow(int k) {
       factors.push_back(object_factors[end++].second);
     }
     ObjectState& object = *objects_[object_factors[i].first];
-    MergeIntoOwnPrior(factors, ObjectBlocks(object), 1.0,
-                      object_factors[i].first, -1, &object.prior_factor);
+    MergeIntoOwnPrior(factors,
+                      ObjectBlocks(object),
+                      1.0,
+                      object_factors[i].first,
+                      -1,
+                      &object.prior_factor);
     i = end;
   }
   for (int f : leaving) problem_.MarkMarginalized(f);
@@ -112,8 +119,8 @@ void Backend::Impl::LeaveWindow(int k) {
     terms.push_back({problem_.prior(), nullptr, problem_.prior_blocks()});
   }
   // The first keyframe is the gauge: constant, not eliminated.
-  const BlockRole own_role = k == 0 ? BlockRole::kConstant
-                                    : BlockRole::kEliminate;
+  const BlockRole own_role =
+      k == 0 ? BlockRole::kConstant : BlockRole::kEliminate;
   auto describe = [&](const double* block) {
     BlockDescription description = DescribeForPrior(block);
     if (block == kf.q || block == kf.t) {
@@ -193,11 +200,11 @@ void Backend::Impl::RemoveFromObjectPrior(int o,
     return description;
   };
   MarginalizationResult result;
-  const Status status = internal::Marginalize(
-      {{prior.cost.get(), nullptr, prior.blocks}},
-      describe,
-      marginalization_,
-      &result);
+  const Status status =
+      internal::Marginalize({{prior.cost.get(), nullptr, prior.blocks}},
+                            describe,
+                            marginalization_,
+                            &result);
   SYMBA_CHECK(status.ok()) << status.message();
   problem_.Retire(object.prior_factor);
   object.prior_factor = -1;

@@ -62,8 +62,8 @@ bool QuaternionDifference(const double* y,
                           double* jacobian) {
   const Eigen::Quaterniond x0_inverse =
       Eigen::Map<const Eigen::Quaterniond>(x0).conjugate();
-  const Eigen::Quaterniond z = Eigen::Map<const Eigen::Quaterniond>(y) *
-                               x0_inverse;
+  const Eigen::Quaterniond z =
+      Eigen::Map<const Eigen::Quaterniond>(y) * x0_inverse;
   Eigen::Vector3d f;
   Eigen::Matrix<double, 3, 4> df_dz;
   if (!AtanLog<3>(z.vec(), z.w(), &f, jacobian ? &df_dz : nullptr)) {
@@ -118,7 +118,7 @@ Status CheckBlock(const PriorBlock& block, size_t index) {
   if (block.x0.size() < 1 || !block.x0.allFinite()) {
     return Status::Error(where + "x0 must be non-empty and finite");
   }
-  const int expected = block.kind == PriorBlockKind::kQuaternion  ? 4
+  const int expected = block.kind == PriorBlockKind::kQuaternion ? 4
                        : block.kind == PriorBlockKind::kUnitAxis ? 3
                                                                  : -1;
   if (expected > 0 && (AmbientSize(block) != expected ||

@@ -25,7 +25,7 @@ struct ReplayFlags {
   std::string log;
   std::string out;
   std::string method = "symba";
-  std::string window_policy = "marginalize";
+  std::string window_policy = "condition";
   std::string mode = "window";
   std::string loss;
   bool quiet = false;
@@ -70,8 +70,9 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
       ->capture_default_str();
   cmd->add_option("--window-policy",
                   f->window_policy,
-                  "keyframes leaving the window: marginalize (into a prior), "
-                  "condition (held constant with all their factors) or drop")
+                  "keyframes leaving the window: condition (held constant with "
+                  "all their factors), marginalize (into priors; bounded "
+                  "work) or drop")
       ->check(CLI::IsMember({"marginalize", "condition", "drop"}))
       ->capture_default_str();
   cmd->add_option("--threads", b.num_threads, "Ceres threads")

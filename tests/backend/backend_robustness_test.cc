@@ -240,8 +240,97 @@ TEST(BackendRobustness, AnObjectNoLongerDetectedInViewIsDropped) {
   EXPECT_EQ(backend->Objects().size(), 1u);
 }
 
-TEST(BackendWindow, OlderKeyframesStayAndOldEdgesReenter) {
+// marginalize: keyframes that left the window never move again; the window
+// holds its own factors and the priors only; the box seen again at keyframe
+// 9, long after keyframe 0 was marginalised, is the same object.
+TEST(BackendWindow, MarginalizeKeepsTheWindowAndThePriorsOnly) {
   BackendOptions options;
+  options.window_size = 3;
+  options.confirm_keyframes = 1;
+  options.window_policy = WindowPolicy::kMarginalize;
+  std::unique_ptr<Backend> backend;
+  ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
+  const std::vector<KeyframeInput> keyframes = BoxKeyframes(10, {0, 9});
+  for (int k = 0; k < 10; ++k) {
+    std::vector<DetectionAssignment> assignments;
+    ASSERT_TRUE(backend->AddKeyframe(keyframes[k], &assignments).ok());
+    ASSERT_EQ(assignments.size(), keyframes[k].detections.size());
+    const std::vector<KeyframeEstimate> before = backend->Keyframes();
+    SolveReport report;
+    ASSERT_TRUE(backend->OptimizeWindow(&report).ok());
+    const std::vector<KeyframeEstimate> after = backend->Keyframes();
+    for (int j = 0; j < k + 1; ++j) {
+      if (j > 0 && j >= k - 2) continue;
+      EXPECT_EQ(before[j].T_wc.t, after[j].T_wc.t) << k << " " << j;
+      EXPECT_EQ(before[j].T_wc.q.coeffs(), after[j].T_wc.q.coeffs())
+          << k << " " << j;
+    }
+    EXPECT_EQ(report.free_keyframes, std::min(k, 3)) << k;
+    // Up to k = 2 nothing has left: the odometry factors and the box edge
+    // of keyframe 0. From k = 3 on, the odometry factor into the window's
+    // first keyframe went into the keyframe prior: 2 odometry factors and
+    // the prior (6 = one pose). At k = 9 the box's edge of keyframe 9 and
+    // its own prior from keyframe 0's edge.
+    const int expected = k <= 2 ? k + 1 : (k == 9 ? 5 : 3);
+    EXPECT_EQ(report.residual_blocks, expected) << k;
+    EXPECT_EQ(report.prior_size, k >= 3 ? 6 : 0) << k;
+    EXPECT_EQ(backend->Statistics().marginalized_keyframes, std::max(0, k - 2));
+    if (k == 9) {
+      ASSERT_EQ(assignments.size(), 1u);
+      EXPECT_EQ(assignments[0].object, 0);  // the old object
+    }
+  }
+  ASSERT_EQ(backend->Objects().size(), 1u);
+  EXPECT_EQ(backend->Objects()[0].observations, 2);
+  // Per-id getters agree with the lists.
+  const std::optional<KeyframeEstimate> last = backend->Keyframe(9);
+  ASSERT_TRUE(last.has_value());
+  EXPECT_EQ(last->T_wc.t, backend->Keyframes().back().T_wc.t);
+  EXPECT_FALSE(backend->Keyframe(10).has_value());
+  ASSERT_TRUE(backend->Object(0).has_value());
+  EXPECT_EQ(backend->Object(0)->t_wo, backend->Objects()[0].t_wo);
+  EXPECT_FALSE(backend->Object(1).has_value());
+  // The batch solve uses every factor, never the priors.
+  SolveReport batch;
+  ASSERT_TRUE(backend->OptimizeBatch(&batch).ok());
+  EXPECT_EQ(batch.residual_blocks, 9 + 2);
+}
+
+// Over a long run the window's problem stays the same size under
+// marginalize and drop; under condition it grows with every keyframe that
+// saw the box.
+TEST(BackendWindow, ResidualBlocksStayBoundedOverALongRun) {
+  std::vector<int> all(400);
+  for (int k = 0; k < 400; ++k) all[k] = k;
+  const std::vector<KeyframeInput> keyframes = BoxKeyframes(400, all, 0.001);
+  for (WindowPolicy policy : {WindowPolicy::kMarginalize,
+                              WindowPolicy::kDrop,
+                              WindowPolicy::kCondition}) {
+    BackendOptions options;
+    options.window_size = 5;
+    options.window_policy = policy;
+    std::unique_ptr<Backend> backend;
+    ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
+    int most = 0;
+    SolveReport report;
+    for (const KeyframeInput& kf : keyframes) {
+      ASSERT_TRUE(backend->AddKeyframe(kf).ok());
+      ASSERT_TRUE(backend->OptimizeWindow(&report).ok());
+      most = std::max(most, report.residual_blocks);
+    }
+    ASSERT_EQ(backend->Objects().size(), 1u) << WindowPolicyName(policy);
+    if (policy == WindowPolicy::kCondition) {
+      EXPECT_GE(report.residual_blocks, 400) << "every edge of the box";
+    } else {
+      // 5 box edges, 4 or 5 odometry factors, the keyframe and box priors.
+      EXPECT_LE(most, 12) << WindowPolicyName(policy);
+    }
+  }
+}
+
+TEST(BackendWindow, ConditionHoldsOlderKeyframesAndOldEdgesReenter) {
+  BackendOptions options;
+  options.window_policy = WindowPolicy::kCondition;
   options.window_size = 3;
   options.confirm_keyframes = 1;
   std::unique_ptr<Backend> backend;

@@ -529,6 +529,52 @@ TEST(BackendSequences, AsymmetricObjectUpgradesToDiscreteOnModeFlip) {
   }
 }
 
+// The same upgrade after the first keyframes were marginalised (window 2:
+// keyframes 0-2 have left when keyframe 4 upgrades): one object, two angles,
+// and the batch solve (which rebuilds the marginalised edges for the new
+// type) agrees.
+TEST(BackendSequences, UpgradeAfterMarginalisationKeepsOneObject) {
+  ScriptedSequenceSpec spec;
+  spec.objects = {Table(SymmetryType::kDiscrete, 2)};
+  spec.mode_script = {{0}, {1}, {0}, {1}, {0, 1}, {1}, {0}, {0, 1}};
+  spec.num_keyframes = 8;
+  spec.seed = 5;
+  const ScriptedSequence seq = GenerateScriptedSequence(spec);
+  BackendOptions options;
+  options.confirm_keyframes = 1;
+  options.window_size = 2;
+  options.window_policy = WindowPolicy::kMarginalize;
+  std::unique_ptr<Backend> backend;
+  ASSERT_TRUE(Backend::Create(options, seq.intrinsics, {}, &backend).ok());
+  for (size_t k = 0; k < seq.keyframes.size(); ++k) {
+    ASSERT_TRUE(backend->AddKeyframe(seq.keyframes[k]).ok());
+    ASSERT_TRUE(backend->OptimizeWindow().ok());
+    if (k == 4) {
+      EXPECT_EQ(backend->Statistics().marginalized_keyframes, 3);
+      EXPECT_EQ(backend->Statistics().object_upgrades, 1);
+    }
+  }
+  for (bool batch : {false, true}) {
+    if (batch) {
+      ASSERT_TRUE(backend->OptimizeBatch().ok());
+    }
+    const std::vector<MapObjectEstimate> objects = backend->Objects();
+    ASSERT_EQ(objects.size(), 1u);
+    EXPECT_EQ(objects[0].symmetry, SymmetryType::kDiscrete);
+    EXPECT_EQ(objects[0].observations, static_cast<int>(seq.keyframes.size()));
+    ASSERT_EQ(objects[0].angles.size(), 2u);
+    EXPECT_NEAR(std::abs(WrapToPi(objects[0].angles[1] - objects[0].angles[0])),
+                kPi,
+                5 * kDegree)
+        << (batch ? "batch" : "window");
+    EXPECT_LT(AxisAngle(objects[0].axis_w, Eigen::Vector3d::UnitZ()),
+              kAxisTolerance);
+    for (const DetectionAssignment& a : backend->Assignments()) {
+      EXPECT_EQ(a.object, objects[0].id);
+    }
+  }
+}
+
 // Flips alone: a single flipped view does not upgrade the object; the same
 // flip repeated in upgrade_evidence (3) keyframes does, to discrete of
 // order 2 with angle pi, reported with its evidence.

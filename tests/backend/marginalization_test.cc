@@ -39,10 +39,12 @@ TEST(PriorTangentDifference, IsTheManifoldsMinus) {
   const AxisManifold axis;
   for (int trial = 0; trial < 50; ++trial) {
     const Eigen::Quaterniond x0 = random.Rotation();
-    const Eigen::Quaterniond y = random.RotationOfAngle(random.Uniform(0, 2.5)) * x0;
+    const Eigen::Quaterniond y =
+        random.RotationOfAngle(random.Uniform(0, 2.5)) * x0;
     double expected[3];
     double delta[3];
-    ASSERT_TRUE(quaternion.Minus(y.coeffs().data(), x0.coeffs().data(), expected));
+    ASSERT_TRUE(
+        quaternion.Minus(y.coeffs().data(), x0.coeffs().data(), expected));
     ASSERT_TRUE(PriorTangentDifference(PriorBlockKind::kQuaternion,
                                        4,
                                        y.coeffs().data(),
@@ -97,13 +99,12 @@ TEST(MarginalPriorFactor, JacobiansPassTheGradientCheckerAwayFromX0) {
     Eigen::Quaterniond q =
         trial == 0 ? q0 : random.RotationOfAngle(spread * 2.0) * q0;
     Eigen::Vector3d a = (a0 + random.NormalVector(spread)).normalized();
-    Eigen::Vector2d v = v0 + Eigen::Vector2d(random.Normal(spread),
-                                             random.Normal(spread));
+    Eigen::Vector2d v =
+        v0 + Eigen::Vector2d(random.Normal(spread), random.Normal(spread));
     const double* parameters[] = {q.coeffs().data(), a.data(), v.data()};
     const ceres::GradientChecker checker(prior.get(), &manifolds, options);
     ceres::GradientChecker::ProbeResults results;
-    EXPECT_TRUE(checker.Probe(parameters, 1e-7, &results))
-        << results.error_log;
+    EXPECT_TRUE(checker.Probe(parameters, 1e-7, &results)) << results.error_log;
     ++probes;
   }
   EXPECT_EQ(probes, 30);
@@ -226,25 +227,32 @@ TEST(Marginalize, FixedLagSmootherMatchesTheBatchOnALinearProblem) {
   }
   std::vector<LinearFactor> factors;
   auto add = [&](ceres::CostFunction* cost, int a, int b, int landmark) {
-    factors.push_back({std::unique_ptr<ceres::CostFunction>(cost), a, b,
-                       landmark});
+    factors.push_back(
+        {std::unique_ptr<ceres::CostFunction>(cost), a, b, landmark});
   };
   add(new ceres::AutoDiffCostFunction<Anchor, 3, 3>(
           new Anchor(truth[0] + random.NormalVector(0.01), 0.01)),
-      -1, 0, -1);
+      -1,
+      0,
+      -1);
   for (int k = 1; k < kStates; ++k) {
     add(Difference::Create(truth[k] - truth[k - 1] + random.NormalVector(0.05),
                            0.05),
-        k - 1, k, -1);
+        k - 1,
+        k,
+        -1);
     // Every state sees two landmarks; they are revisited all along.
     for (int j : {k % kLandmarks, (k / 3) % kLandmarks}) {
       add(Difference::Create(
               landmark_truth[j] - truth[k] + random.NormalVector(0.1), 0.1),
-          -1, k, j);
+          -1,
+          k,
+          j);
     }
   }
   std::vector<double*> no_blocks;
-  auto blocks_of = [](const LinearFactor& f, std::vector<Eigen::Vector3d>* x,
+  auto blocks_of = [](const LinearFactor& f,
+                      std::vector<Eigen::Vector3d>* x,
                       std::vector<Eigen::Vector3d>* l) {
     std::vector<double*> blocks;
     if (f.landmark >= 0) {
@@ -265,8 +273,8 @@ TEST(Marginalize, FixedLagSmootherMatchesTheBatchOnALinearProblem) {
     problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(problem_options);
     for (const LinearFactor& f : factors) {
-      problem.AddResidualBlock(f.cost.get(), nullptr,
-                               blocks_of(f, &x_batch, &l_batch));
+      problem.AddResidualBlock(
+          f.cost.get(), nullptr, blocks_of(f, &x_batch, &l_batch));
     }
     ceres::Solver::Summary summary;
     ceres::Solve(ExactOptions(), &problem, &summary);
@@ -290,32 +298,34 @@ TEST(Marginalize, FixedLagSmootherMatchesTheBatchOnALinearProblem) {
         if (marginalised[f]) continue;
         const LinearFactor& factor = factors[f];
         if (factor.state_a != leaving && factor.state_b != leaving) continue;
-        terms.push_back({factor.cost.get(), nullptr, blocks_of(factor, &x, &l)});
+        terms.push_back(
+            {factor.cost.get(), nullptr, blocks_of(factor, &x, &l)});
         marginalised[f] = 1;
       }
       if (prior) terms.push_back({prior.get(), nullptr, prior_blocks});
       const double* own = x[leaving].data();
       MarginalizationResult result;
-      ASSERT_TRUE(Marginalize(terms,
-                              [own](const double* block) {
-                                BlockDescription d;
-                                d.role = block == own ? BlockRole::kEliminate
-                                                      : BlockRole::kKeep;
-                                return d;
-                              },
-                              MarginalizationOptions(),
-                              &result)
+      ASSERT_TRUE(Marginalize(
+                      terms,
+                      [own](const double* block) {
+                        BlockDescription d;
+                        d.role = block == own ? BlockRole::kEliminate
+                                              : BlockRole::kKeep;
+                        return d;
+                      },
+                      MarginalizationOptions(),
+                      &result)
                       .ok());
       ASSERT_NE(result.prior, nullptr);
       const Eigen::MatrixXd info = result.prior->Information();
       EXPECT_LT((info - info.transpose()).cwiseAbs().maxCoeff(), 1e-9);
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(info);
-      EXPECT_GT(eig.eigenvalues().minCoeff(), -1e-9 * eig.eigenvalues().maxCoeff());
+      EXPECT_GT(eig.eigenvalues().minCoeff(),
+                -1e-9 * eig.eigenvalues().maxCoeff());
       prior = std::move(result.prior);
       prior_blocks = result.blocks;
     }
-    while (next_factor < factors.size() &&
-           factors[next_factor].state_b <= k) {
+    while (next_factor < factors.size() && factors[next_factor].state_b <= k) {
       ++next_factor;
     }
     ceres::Problem::Options problem_options;
@@ -323,8 +333,8 @@ TEST(Marginalize, FixedLagSmootherMatchesTheBatchOnALinearProblem) {
     ceres::Problem problem(problem_options);
     for (size_t f = 0; f < next_factor; ++f) {
       if (!marginalised[f]) {
-        problem.AddResidualBlock(factors[f].cost.get(), nullptr,
-                                 blocks_of(factors[f], &x, &l));
+        problem.AddResidualBlock(
+            factors[f].cost.get(), nullptr, blocks_of(factors[f], &x, &l));
       }
     }
     if (prior) problem.AddResidualBlock(prior.get(), nullptr, prior_blocks);
@@ -356,7 +366,8 @@ TEST(Marginalize, DropsAnAmbiguousMixtureAndKeepsAClearOne) {
   // 90 degrees is equally far from both; one at 0 degrees is clearly the
   // first.
   const Eigen::Quaterniond R0 = Eigen::Quaterniond::Identity();
-  const Eigen::Quaterniond R180(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitZ()));
+  const Eigen::Quaterniond R180(
+      Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitZ()));
   std::vector<PoseComponent> components(2);
   components[0].T_co = Rigid3d(R0, Eigen::Vector3d(0, 0, 2));
   components[1].T_co = Rigid3d(R180, Eigen::Vector3d(0, 0, 2));
@@ -365,7 +376,8 @@ TEST(Marginalize, DropsAnAmbiguousMixtureAndKeepsAClearOne) {
     c.weight = 0.5;
   }
   std::unique_ptr<AsymmetricObjectEdge> edge;
-  ASSERT_TRUE(CreateAsymmetricObjectEdge(components, MixtureOptions(), &edge).ok());
+  ASSERT_TRUE(
+      CreateAsymmetricObjectEdge(components, MixtureOptions(), &edge).ok());
   double q_wc[4] = {0, 0, 0, 1};
   double t_wc[3] = {0, 0, 0};
   double t_wo[3] = {0, 0, 2};
@@ -378,7 +390,8 @@ TEST(Marginalize, DropsAnAmbiguousMixtureAndKeepsAClearOne) {
     return d;
   };
   for (double angle : {kPi / 2, 0.1}) {
-    const Eigen::Quaterniond R_wo(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()));
+    const Eigen::Quaterniond R_wo(
+        Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()));
     double q_wo[4] = {R_wo.x(), R_wo.y(), R_wo.z(), R_wo.w()};
     auto describe_here = [&](const double* block) {
       BlockDescription d = describe(block);

@@ -11,18 +11,20 @@
 //   OptimizeWindow   the last K = window_size keyframes and everything they
 //                    observe are free. What happens to older keyframes is
 //                    options().window_policy:
-//                      marginalize (default): when a keyframe leaves the
-//                        window, its factors leave the problem for good and
-//                        what they said about the later keyframes and the
-//                        objects stays as one linear prior (Schur complement
-//                        at the estimate of that moment); its pose is final.
-//                        Its point observations are dropped. A solve holds
-//                        the window's factors, the prior and the objects the
-//                        prior or the window touch: its cost does not grow
-//                        with the length of the run.
-//                      condition: older keyframes that share an object or a
-//                        point with the window are held constant with all
-//                        their factors (the cost grows with the run).
+//                      condition (default): older keyframes that share an
+//                        object or a point with the window are held
+//                        constant with all their factors (the cost grows
+//                        with the run).
+//                      marginalize: when a keyframe leaves the window, its
+//                        factors leave the problem for good and its pose is
+//                        final. Its motion factors (and half of its point
+//                        observations) become a linear prior on the later
+//                        keyframes (Schur complement at the estimate of
+//                        that moment); its object edges (and the other half
+//                        of its point observations) become each object's
+//                        and point's own prior, conditioned on its pose. A
+//                        solve holds the window's factors and those priors:
+//                        its cost does not grow with the length of the run.
 //                      drop: older keyframes' factors leave the problem and
 //                        their information is lost; the oldest window
 //                        keyframe is held constant.
@@ -63,9 +65,9 @@ struct SolveReport {
   double seconds = 0.0;
   bool converged = false;
   int free_keyframes = 0;
-  int residual_blocks = 0;   // including the prior
+  int residual_blocks = 0;  // including the prior
   int parameter_blocks = 0;
-  int prior_size = 0;        // the prior's tangent size (0: none)
+  int prior_size = 0;  // the prior's tangent size (0: none)
 };
 
 // Counters over the backend's life.
@@ -77,7 +79,7 @@ struct BackendStatistics {
   int object_upgrades = 0;    // asymmetric map objects that became symmetric
   int objects_dropped = 0;    // tentative objects never confirmed
   int rotation_outliers = 0;  // symba: flips that did not (yet) upgrade
-  int marginalized_keyframes = 0;  // keyframes that left the window
+  int marginalized_keyframes = 0;   // keyframes that left the window
   int ambiguous_edges_dropped = 0;  // mixtures not frozen into the prior
   int solves = 0;
   double solve_seconds = 0.0;

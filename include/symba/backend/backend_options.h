@@ -28,13 +28,17 @@ bool ParseMethod(const std::string& name, Method* method);
 // What happens to a keyframe that leaves the window (docs/backend.md "The
 // window"). The batch solve is the same under every policy.
 enum class WindowPolicy {
-  // Its factors leave the problem for good; what they said about the blocks
-  // still in it (later keyframes, objects) stays as one linear prior (the
-  // Schur complement at the current estimate). A window solve touches the
-  // window's factors and the prior only: bounded work per keyframe.
+  // Its factors leave the problem for good. Its pose is eliminated by the
+  // Schur complement (at the current estimate) from its motion factors and
+  // half of its point observations into a linear prior on the later
+  // keyframes; its object edges, and the other half of its point
+  // observations, are conditioned on its final pose into each object's and
+  // point's own prior. A window solve touches the window's factors and
+  // those priors only: bounded work per keyframe.
   kMarginalize,
   // It is held constant with all its factors; every object a window
-  // keyframe observes brings all its observations ever. Exact but growing.
+  // keyframe observes brings all its observations ever (the work grows with
+  // the run). The default.
   kCondition,
   // Its factors leave the problem and their information is lost; the
   // oldest window keyframe is held constant (the gauge).
@@ -55,7 +59,9 @@ struct BackendOptions {
   // observe are free; older keyframes are marginalised, held constant or
   // dropped, as window_policy says.
   int window_size = 10;
-  WindowPolicy window_policy = WindowPolicy::kMarginalize;
+  // condition stays the default until marginalize matches its accuracy on
+  // every benchmark (docs/backend.md "The window" has the comparison).
+  WindowPolicy window_policy = WindowPolicy::kCondition;
   // marginalize: a max-mixture edge enters the prior with its current
   // winner only if the winner's cost (negative log-likelihood) is this much
   // below the runner-up's; an ambiguous edge is dropped instead.

@@ -38,9 +38,9 @@ struct MapObjectEstimate {
   // An asymmetric object that became symmetric: when and on what evidence.
   struct Upgrade {
     KeyframeId keyframe = 0;  // the keyframe of the upgrade
-    int evidence = 0;      // agreeing flips, or 1 symmetric detection
-    int order = 0;         // the order the flips' angle fits (0: none)
-    double angle = 0.0;    // the flips' mean angle (rad; 0 without flips)
+    int evidence = 0;         // agreeing flips, or 1 symmetric detection
+    int order = 0;            // the order the flips' angle fits (0: none)
+    double angle = 0.0;       // the flips' mean angle (rad; 0 without flips)
   };
   std::optional<Upgrade> upgrade;
 };

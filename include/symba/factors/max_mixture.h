@@ -113,8 +113,7 @@ class MixtureWinnerMargin {
 
 template <typename Model, int... kBlockSizes>
 class MaxMixtureCostFunction final
-    : public ceres::SizedCostFunction<Model::kNumResiduals + 1,
-                                      kBlockSizes...>,
+    : public ceres::SizedCostFunction<Model::kNumResiduals + 1, kBlockSizes...>,
       public MixtureWinnerMargin {
  public:
   static constexpr int kNumResiduals = Model::kNumResiduals + 1;
@@ -210,9 +209,9 @@ class MaxMixtureCostFunction final
     double runner_up = std::numeric_limits<double>::infinity();
     for (int j = 0; j < model_.NumComponents(); ++j) {
       if (j == selection.component) continue;
-      runner_up = std::min(runner_up,
-                           0.5 * model_.MixtureSquaredNorm(prepared, j) +
-                               log_normalizers_[j]);
+      runner_up = std::min(
+          runner_up,
+          0.5 * model_.MixtureSquaredNorm(prepared, j) + log_normalizers_[j]);
     }
     *margin = runner_up - selection.cost;
     return true;

@@ -678,8 +678,16 @@ int main(int argc, char** argv) {
                  flags.backend.uncalibrated_sigma_r,
                  "the same for rotation (rad)")
       ->capture_default_str();
+  std::string window_policy =
+      symba::WindowPolicyName(flags.backend.window_policy);
+  app.add_option("--window-policy",
+                 window_policy,
+                 "keyframes leaving the window: condition, marginalize or drop")
+      ->check(CLI::IsMember({"condition", "marginalize", "drop"}))
+      ->capture_default_str();
   app.add_flag("--quiet", flags.quiet, "no progress on stderr");
   CLI11_PARSE(app, argc, argv);
+  symba::ParseWindowPolicy(window_policy, &flags.backend.window_policy);
 
   const auto fail = [](const std::string& message) {
     std::fprintf(stderr, "symba-real-bench: %s\n", message.c_str());

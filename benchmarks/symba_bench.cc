@@ -74,6 +74,7 @@ struct Flags {
   int seeds = 3;
   std::string out_dir = SYMBA_BENCH_DEFAULT_OUT_DIR;
   std::string results_md = SYMBA_SOURCE_DIR "/docs/results.md";
+  symba::WindowPolicy window_policy = symba::WindowPolicy::kCondition;
   bool quiet = false;
 };
 
@@ -120,6 +121,7 @@ Status RunSeed(const Flags& flags,
     symba::ReplayOptions options;
     options.backend.method = kMethods[m].method;
     options.backend.merge_modes = kMethods[m].merge_modes;
+    options.backend.window_policy = flags.window_policy;
     symba::ReplayResult result;
     status = symba::ReplayLog(log, options, &result);
     if (!status.ok()) return status;
@@ -500,8 +502,15 @@ int main(int argc, char** argv) {
                  flags.results_md,
                  "write the markdown report here (empty: do not write)")
       ->capture_default_str();
+  std::string window_policy = symba::WindowPolicyName(flags.window_policy);
+  app.add_option("--window-policy",
+                 window_policy,
+                 "keyframes leaving the window: condition, marginalize or drop")
+      ->check(CLI::IsMember({"condition", "marginalize", "drop"}))
+      ->capture_default_str();
   app.add_flag("--quiet", flags.quiet, "no progress on stderr");
   CLI11_PARSE(app, argc, argv);
+  symba::ParseWindowPolicy(window_policy, &flags.window_policy);
 
   std::error_code error;
   fs::create_directories(flags.out_dir, error);

@@ -294,7 +294,7 @@ Status Backend::Impl::Solve(const char* what,
     report->free_keyframes = free_keyframes;
     report->residual_blocks = problem_.NumResidualBlocks();
     report->parameter_blocks = problem_.NumParameterBlocks();
-    report->prior_size = problem_.prior() != nullptr
+    report->prior_size = problem_.prior_in_problem()
                              ? static_cast<int>(problem_.prior()->A().cols())
                              : 0;
   }

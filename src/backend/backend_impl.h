@@ -121,6 +121,13 @@ class Backend::Impl {
                          int object,
                          int point,
                          int* prior_factor);
+  // Marginalises `terms` (`describe` says which blocks are the entity's) and
+  // stores the result as the entity's prior in place of *prior_factor.
+  void ReplaceOwnPrior(const std::vector<internal::MarginalizationTerm>& terms,
+                       const internal::BlockDescriber& describe,
+                       int object,
+                       int point,
+                       int* prior_factor);
   // Marginalises `blocks` out of object o's prior (their information on
   // its other blocks stays); nothing if the prior has none of them.
   void RemoveFromObjectPrior(int o, const std::vector<double*>& blocks);

@@ -163,11 +163,22 @@ void Backend::Impl::MergeIntoOwnPrior(const std::vector<int>& factors,
     }
     return description;
   };
+  ReplaceOwnPrior(terms, describe, object, point, prior_factor);
+}
+
+void Backend::Impl::ReplaceOwnPrior(
+    const std::vector<MarginalizationTerm>& terms,
+    const internal::BlockDescriber& describe,
+    int object,
+    int point,
+    int* prior_factor) {
   MarginalizationResult result;
   const Status status =
       internal::Marginalize(terms, describe, marginalization_, &result);
+  // Every block in the problem has a manifold the prior expresses.
   SYMBA_CHECK(status.ok()) << status.message();
   statistics_.ambiguous_edges_dropped += result.ambiguous;
+  // The old prior (one of the terms) is used up only now.
   if (*prior_factor >= 0) problem_.Retire(*prior_factor);
   *prior_factor = -1;
   if (result.prior == nullptr) return;
@@ -199,22 +210,11 @@ void Backend::Impl::RemoveFromObjectPrior(int o,
     }
     return description;
   };
-  MarginalizationResult result;
-  const Status status =
-      internal::Marginalize({{prior.cost.get(), nullptr, prior.blocks}},
-                            describe,
-                            marginalization_,
-                            &result);
-  SYMBA_CHECK(status.ok()) << status.message();
-  problem_.Retire(object.prior_factor);
-  object.prior_factor = -1;
-  if (result.prior == nullptr) return;
-  FactorRecord record;
-  record.cost = std::move(result.prior);
-  record.blocks = std::move(result.blocks);
-  record.object = o;
-  record.summary = true;
-  object.prior_factor = problem_.Add(std::move(record));
+  ReplaceOwnPrior({{prior.cost.get(), nullptr, prior.blocks}},
+                  describe,
+                  o,
+                  -1,
+                  &object.prior_factor);
 }
 
 }  // namespace symba

@@ -54,11 +54,6 @@ void WindowProblem::SetPrior(std::unique_ptr<MarginalPriorFactor> prior,
   prior_blocks_ = prior_ ? std::move(blocks) : std::vector<double*>();
 }
 
-bool WindowProblem::PriorHasBlock(const double* block) const {
-  return std::find(prior_blocks_.begin(), prior_blocks_.end(), block) !=
-         prior_blocks_.end();
-}
-
 void WindowProblem::RemoveResidual(ceres::ResidualBlockId* residual,
                                    const std::vector<double*>& blocks) {
   if (*residual == nullptr) return;

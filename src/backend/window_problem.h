@@ -52,7 +52,7 @@ class WindowProblem {
                 std::vector<double*> blocks);
   const MarginalPriorFactor* prior() const { return prior_.get(); }
   const std::vector<double*>& prior_blocks() const { return prior_blocks_; }
-  bool PriorHasBlock(const double* block) const;
+  bool prior_in_problem() const { return prior_residual_ != nullptr; }
 
   // Makes the problem hold exactly the factors of `active` (indices; the
   // retired ones, and the marginalised ones unless with_marginalized, are

@@ -465,13 +465,18 @@ TEST(BackendSequences, UnmatchedDetectionsCreateObjectsAndClassesNeverMix) {
 // pi from the first and keeps its identity. (Objects are confirmed at once
 // here: the test is about the upgrade.)
 
-TEST(BackendSequences, AsymmetricObjectUpgradesToDiscreteOnModeFlip) {
+// A 2-fold table seen in one mode, then the other, ..., both at keyframe 4.
+ScriptedSequence FlipsThenBothModes() {
   ScriptedSequenceSpec spec;
   spec.objects = {Table(SymmetryType::kDiscrete, 2)};
   spec.mode_script = {{0}, {1}, {0}, {1}, {0, 1}, {1}, {0}, {0, 1}};
   spec.num_keyframes = 8;
   spec.seed = 5;
-  const ScriptedSequence seq = GenerateScriptedSequence(spec);
+  return GenerateScriptedSequence(spec);
+}
+
+TEST(BackendSequences, AsymmetricObjectUpgradesToDiscreteOnModeFlip) {
+  const ScriptedSequence seq = FlipsThenBothModes();
 
   BackendOptions options;
   options.confirm_keyframes = 1;
@@ -534,12 +539,7 @@ TEST(BackendSequences, AsymmetricObjectUpgradesToDiscreteOnModeFlip) {
 // and the batch solve (which rebuilds the marginalised edges for the new
 // type) agrees.
 TEST(BackendSequences, UpgradeAfterMarginalisationKeepsOneObject) {
-  ScriptedSequenceSpec spec;
-  spec.objects = {Table(SymmetryType::kDiscrete, 2)};
-  spec.mode_script = {{0}, {1}, {0}, {1}, {0, 1}, {1}, {0}, {0, 1}};
-  spec.num_keyframes = 8;
-  spec.seed = 5;
-  const ScriptedSequence seq = GenerateScriptedSequence(spec);
+  const ScriptedSequence seq = FlipsThenBothModes();
   BackendOptions options;
   options.confirm_keyframes = 1;
   options.window_size = 2;

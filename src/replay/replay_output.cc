@@ -61,6 +61,8 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
       .Member("object_upgrades", s.object_upgrades)
       .Member("objects_dropped", s.objects_dropped)
       .Member("rotation_outliers", s.rotation_outliers)
+      .Member("marginalized_keyframes", s.marginalized_keyframes)
+      .Member("ambiguous_edges_dropped", s.ambiguous_edges_dropped)
       .EndObject();
   json.Key("timing")
       .BeginObject()
@@ -80,6 +82,8 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
       .Member("converged", result.last_solve.converged)
       .Member("free_keyframes", result.last_solve.free_keyframes)
       .Member("residual_blocks", result.last_solve.residual_blocks)
+      .Member("parameter_blocks", result.last_solve.parameter_blocks)
+      .Member("prior_size", result.last_solve.prior_size)
       .EndObject()
       .EndObject();
   json.Key("options")

@@ -150,6 +150,28 @@ TEST(ReplayOutputTest, AssociationsCsvQuotesIdsThatNeedIt) {
             "18,\"a,\"\"b\"\"\",0,continuous\n");
 }
 
+TEST(ReplayOutputTest, SummaryJsonReportsTheWindowCounters) {
+  ReplayOptions options;
+  options.backend.window_policy = WindowPolicy::kMarginalize;
+  ReplayResult result;
+  result.statistics.keyframes = 40;
+  result.statistics.marginalized_keyframes = 30;
+  result.statistics.ambiguous_edges_dropped = 4;
+  result.last_solve.residual_blocks = 23;
+  result.last_solve.parameter_blocks = 31;
+  result.last_solve.prior_size = 6;
+  const std::string json =
+      FormatReplaySummaryJson("log.jsonl", options, result);
+  for (const char* member : {"\"marginalized_keyframes\": 30",
+                             "\"ambiguous_edges_dropped\": 4",
+                             "\"residual_blocks\": 23",
+                             "\"parameter_blocks\": 31",
+                             "\"prior_size\": 6",
+                             "\"window_policy\": \"marginalize\""}) {
+    EXPECT_NE(json.find(member), std::string::npos) << member << "\n" << json;
+  }
+}
+
 TEST(ReplayOutputTest, AtomicWriteCreatesTheDirectoryWithEveryFile) {
   TempDir temp;
   const fs::path out = temp.path() / "out";

@@ -74,7 +74,7 @@ struct Flags {
   int seeds = 3;
   std::string out_dir = SYMBA_BENCH_DEFAULT_OUT_DIR;
   std::string results_md = SYMBA_SOURCE_DIR "/docs/results.md";
-  symba::WindowPolicy window_policy = symba::WindowPolicy::kCondition;
+  symba::WindowPolicy window_policy = symba::WindowPolicy::kMarginalize;
   bool quiet = false;
 };
 

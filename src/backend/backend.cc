@@ -52,6 +52,7 @@ Backend::Impl::Impl(const BackendOptions& options,
       point_loss_(std::make_unique<ceres::HuberLoss>(options.point_loss_scale)),
       noise_(options.noise_window, options.noise_min_samples) {
   marginalization_.min_winner_margin = options.marginalize_min_margin;
+  marginalization_.rival_distance = options.marginalize_rival_distance;
 }
 
 int Backend::Impl::WindowStart() const {

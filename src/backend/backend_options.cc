@@ -81,11 +81,35 @@ bool ParseWindowPolicy(const std::string& name, WindowPolicy* policy) {
   return false;
 }
 
+const char* ChainPriorName(ChainPrior prior) {
+  switch (prior) {
+    case ChainPrior::kConditional:
+      return "conditional";
+    case ChainPrior::kMarginal:
+      return "marginal";
+  }
+  return "conditional";
+}
+
+bool ParseChainPrior(const std::string& name, ChainPrior* prior) {
+  for (ChainPrior p : {ChainPrior::kConditional, ChainPrior::kMarginal}) {
+    if (name == ChainPriorName(p)) {
+      *prior = p;
+      return true;
+    }
+  }
+  return false;
+}
+
 Status BackendOptions::Validate() const {
   if (window_size < 1) return Status::Error("window_size must be >= 1");
   if (!(std::isfinite(marginalize_min_margin) &&
         marginalize_min_margin >= 0.0)) {
     return Status::Error("marginalize_min_margin must be finite and >= 0");
+  }
+  if (!(std::isfinite(marginalize_rival_distance) &&
+        marginalize_rival_distance >= 0.0)) {
+    return Status::Error("marginalize_rival_distance must be finite and >= 0");
   }
   if (max_iterations < 1 || batch_max_iterations < 1) {
     return Status::Error(

@@ -75,13 +75,14 @@ void CorrectForLoss(const ceres::LossFunction& loss,
 // Whether a max-mixture's winner is clear enough to be frozen.
 bool ClearWinner(const ceres::CostFunction& cost,
                  const std::vector<double*>& blocks,
-                 double min_margin) {
+                 const MarginalizationOptions& options) {
   const auto* mixture = dynamic_cast<const MixtureWinnerMargin*>(&cost);
   if (mixture == nullptr) return true;
   double margin = 0.0;
   bool null_won = false;
-  return mixture->WinnerMargin(blocks.data(), &margin, &null_won) &&
-         !null_won && margin >= min_margin;
+  return mixture->WinnerMargin(
+             blocks.data(), options.rival_distance, &margin, &null_won) &&
+         !null_won && margin >= options.min_winner_margin;
 }
 
 class Linearizer {
@@ -198,7 +199,7 @@ Status Marginalize(const std::vector<MarginalizationTerm>& terms,
   Linearizer linearizer(describe);
   std::vector<LinearTerm> linear;
   for (const MarginalizationTerm& term : terms) {
-    if (!ClearWinner(*term.cost, term.blocks, options.min_winner_margin)) {
+    if (!ClearWinner(*term.cost, term.blocks, options)) {
       ++result->ambiguous;
       continue;
     }

@@ -13,10 +13,12 @@
 //       r <- sqrt(rho') / (1 - alpha) r,
 //       J <- sqrt(rho') (I - alpha r r^T / s) J
 //     so that J^T J and J^T r are the loss's Gauss-Newton terms;
-//   - a max-mixture by its current winner, but only if the winner leads the
-//     runner-up by min_winner_margin in cost (negative log-likelihood) and
-//     is not the null hypothesis; otherwise the factor is dropped: an
-//     ambiguous mode must not be frozen into the prior;
+//   - a max-mixture by its current winner, but only if the winner leads
+//     every rival by min_winner_margin in cost (negative log-likelihood)
+//     and is not the null hypothesis; otherwise the factor is dropped: an
+//     ambiguous mode must not be frozen into the prior. A rival is a
+//     component whose whitened residual differs from the winner's by more
+//     than rival_distance (components of one mode are no rivals);
 //   - a factor whose evaluation fails or is not finite is dropped.
 // Constant blocks take no part (their value is used, they get no columns).
 // Safeguards: H_mm is inverted through its eigenvalues, those at most
@@ -42,6 +44,7 @@ namespace symba::internal {
 
 struct MarginalizationOptions {
   double min_winner_margin = 2.0;       // cost units (nats)
+  double rival_distance = 5.0;          // whitened residual units
   double eigenvalue_threshold = 1e-10;  // relative to the largest eigenvalue
 };
 

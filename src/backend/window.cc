@@ -11,14 +11,6 @@
 #include "symba/common/check.h"
 
 namespace symba {
-namespace {
-
-// A point observation from a leaving keyframe informs both the keyframe's
-// pose (given the point) and the point (given the pose): it enters each
-// conditional with half its information, so that it is counted once.
-constexpr double kPointShare = 0.5;
-
-}  // namespace
 
 using internal::BlockDescription;
 using internal::BlockRole;
@@ -44,6 +36,12 @@ std::vector<double*> Backend::Impl::ObjectBlocks(ObjectState& object) {
 void Backend::Impl::LeaveWindow(int k) {
   KeyframeState& kf = *keyframes_[k];
   const bool marginalize = options_.window_policy == WindowPolicy::kMarginalize;
+  // Under a marginal chain prior a point observation informs both the
+  // keyframe's pose (given the point) and the point (given the pose): it
+  // enters each with half its information, so that it is counted once.
+  // Under a conditional one the pose is final and the point gets it all.
+  const bool marginal_chain = options_.chain_prior == ChainPrior::kMarginal;
+  const double point_share = marginal_chain ? 0.5 : 1.0;
   std::vector<MarginalizationTerm> terms;
   // Keyframes that left before k and still appear in its factors (a motion
   // factor across a gap in the front end's poses) are constant.
@@ -58,9 +56,11 @@ void Backend::Impl::LeaveWindow(int k) {
     if (!marginalize || !InMap(record)) continue;
     if (record.point >= 0) {
       point_factors.emplace_back(record.point, f);
-      terms.push_back(
-          {record.cost.get(), record.loss, record.blocks, kPointShare});
-      constant.push_back(points_[record.point]->p);
+      if (marginal_chain) {
+        terms.push_back(
+            {record.cost.get(), record.loss, record.blocks, point_share});
+        constant.push_back(points_[record.point]->p);
+      }
       continue;
     }
     if (record.object >= 0) {
@@ -91,7 +91,7 @@ void Backend::Impl::LeaveWindow(int k) {
     internal::PointState& point = *points_[point_factors[i].first];
     MergeIntoOwnPrior(factors,
                       {point.p},
-                      kPointShare,
+                      point_share,
                       -1,
                       point_factors[i].first,
                       &point.prior_factor);
@@ -118,9 +118,10 @@ void Backend::Impl::LeaveWindow(int k) {
   if (problem_.prior() != nullptr) {
     terms.push_back({problem_.prior(), nullptr, problem_.prior_blocks()});
   }
-  // The first keyframe is the gauge: constant, not eliminated.
+  // The first keyframe is the gauge: constant, not eliminated. A
+  // conditional chain holds the leaving keyframe at its estimate too.
   const BlockRole own_role =
-      k == 0 ? BlockRole::kConstant : BlockRole::kEliminate;
+      k == 0 || !marginal_chain ? BlockRole::kConstant : BlockRole::kEliminate;
   auto describe = [&](const double* block) {
     BlockDescription description = DescribeForPrior(block);
     if (block == kf.q || block == kf.t) {

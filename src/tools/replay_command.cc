@@ -25,7 +25,8 @@ struct ReplayFlags {
   std::string log;
   std::string out;
   std::string method = "symba";
-  std::string window_policy = "condition";
+  std::string window_policy = "marginalize";
+  std::string chain_prior = "conditional";
   std::string mode = "window";
   std::string loss;
   bool quiet = false;
@@ -70,10 +71,29 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
       ->capture_default_str();
   cmd->add_option("--window-policy",
                   f->window_policy,
-                  "keyframes leaving the window: condition (held constant with "
-                  "all their factors), marginalize (into priors; bounded "
-                  "work) or drop")
+                  "keyframes leaving the window: marginalize (into priors; "
+                  "bounded work), condition (held constant with all their "
+                  "factors) or drop")
       ->check(CLI::IsMember({"marginalize", "condition", "drop"}))
+      ->capture_default_str();
+  cmd->add_option("--chain-prior",
+                  f->chain_prior,
+                  "marginalize: a leaving keyframe's pose is held at its "
+                  "estimate (conditional) or eliminated by the Schur "
+                  "complement (marginal)")
+      ->check(CLI::IsMember({"conditional", "marginal"}))
+      ->capture_default_str();
+  cmd->add_option("--marginalize-min-margin",
+                  b.marginalize_min_margin,
+                  "marginalize: least cost lead (nats) of a max-mixture's "
+                  "winner over every rival for the edge to enter a prior")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--marginalize-rival-distance",
+                  b.marginalize_rival_distance,
+                  "marginalize: whitened residual distance beyond which a "
+                  "component is the winner's rival")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--threads", b.num_threads, "Ceres threads")
       ->check(CLI::PositiveNumber)
@@ -233,6 +253,7 @@ int RunReplay(const ReplayFlags& f) {
   options.backend = f.backend;
   symba::ParseMethod(f.method, &options.backend.method);
   symba::ParseWindowPolicy(f.window_policy, &options.backend.window_policy);
+  symba::ParseChainPrior(f.chain_prior, &options.backend.chain_prior);
   symba::ParseReplayMode(f.mode, &options.mode);
   symba::ParseLoss(f.loss, &options.backend.object_loss);
   options.backend.gate_axis = f.gate_axis_deg * kDeg;

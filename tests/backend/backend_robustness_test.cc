@@ -313,12 +313,18 @@ TEST(BackendWindow, ResidualBlocksStayBoundedOverALongRun) {
   std::vector<int> all(400);
   for (int k = 0; k < 400; ++k) all[k] = k;
   const std::vector<KeyframeInput> keyframes = BoxKeyframes(400, all, 0.001);
-  for (WindowPolicy policy : {WindowPolicy::kMarginalize,
-                              WindowPolicy::kDrop,
-                              WindowPolicy::kCondition}) {
+  const std::pair<WindowPolicy, ChainPrior> runs[] = {
+      {WindowPolicy::kMarginalize, ChainPrior::kConditional},
+      {WindowPolicy::kMarginalize, ChainPrior::kMarginal},
+      {WindowPolicy::kDrop, ChainPrior::kConditional},
+      {WindowPolicy::kCondition, ChainPrior::kConditional}};
+  for (const auto& [policy, chain_prior] : runs) {
+    const std::string name = std::string(WindowPolicyName(policy)) + "/" +
+                             ChainPriorName(chain_prior);
     BackendOptions options;
     options.window_size = 5;
     options.window_policy = policy;
+    options.chain_prior = chain_prior;
     std::unique_ptr<Backend> backend;
     ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
     int most = 0;
@@ -328,12 +334,15 @@ TEST(BackendWindow, ResidualBlocksStayBoundedOverALongRun) {
       ASSERT_TRUE(backend->OptimizeWindow(&report).ok());
       most = std::max(most, report.residual_blocks);
     }
-    ASSERT_EQ(backend->Objects().size(), 1u) << WindowPolicyName(policy);
+    ASSERT_EQ(backend->Objects().size(), 1u) << name;
     if (policy == WindowPolicy::kCondition) {
       EXPECT_GE(report.residual_blocks, 400) << "every edge of the box";
     } else {
       // 5 box edges, 4 or 5 odometry factors, the keyframe and box priors.
-      EXPECT_LE(most, 12) << WindowPolicyName(policy);
+      EXPECT_LE(most, 12) << name;
+    }
+    if (policy == WindowPolicy::kMarginalize) {
+      EXPECT_EQ(report.prior_size, 6) << name << ": the oldest pose";
     }
   }
 }

@@ -7,7 +7,8 @@
 //   - on a linear Gaussian problem, where marginalisation is exact, a
 //     fixed-lag smoother over a long sequence ends at the batch solution to
 //     1e-6 (window states and landmarks);
-//   - an ambiguous max-mixture is dropped, a clear one is linearised.
+//   - an ambiguous max-mixture is dropped, a clear one is linearised, and
+//     components of one mode are no rivals.
 #include "backend/marginalization.h"
 
 #include <cmath>
@@ -413,6 +414,53 @@ TEST(Marginalize, DropsAnAmbiguousMixtureAndKeepsAClearOne) {
       ASSERT_NE(result.prior, nullptr);
       EXPECT_EQ(result.prior->A().cols(), 6);  // q_wo (3) and t_wo (3)
     }
+  }
+}
+
+TEST(Marginalize, ComponentsOfOneModeAreNoRivals) {
+  // Two hypotheses of one mode, 0.05 rad apart about z (half a sigma), and
+  // an object half-way: both cost the same, yet their whitened residuals
+  // differ by 0.5 only, so the edge is linearised unless rival_distance is
+  // below that.
+  std::vector<PoseComponent> components(2);
+  components[0].T_co =
+      Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, 2));
+  components[1].T_co = Rigid3d(
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ())),
+      Eigen::Vector3d(0, 0, 2));
+  for (PoseComponent& c : components) {
+    c.sqrt_info = IsotropicPoseSqrtInfo(0.05, 0.1);
+    c.weight = 0.5;
+  }
+  std::unique_ptr<AsymmetricObjectEdge> edge;
+  ASSERT_TRUE(
+      CreateAsymmetricObjectEdge(components, MixtureOptions(), &edge).ok());
+  double q_wc[4] = {0, 0, 0, 1};
+  double t_wc[3] = {0, 0, 0};
+  const Eigen::Quaterniond R_wo(
+      Eigen::AngleAxisd(0.025, Eigen::Vector3d::UnitZ()));
+  double q_wo[4] = {R_wo.x(), R_wo.y(), R_wo.z(), R_wo.w()};
+  double t_wo[3] = {0, 0, 2};
+  const ceres::EigenQuaternionManifold quaternion;
+  auto describe = [&](const double* block) {
+    BlockDescription d;
+    d.role = (block == q_wc || block == t_wc) ? BlockRole::kConstant
+                                              : BlockRole::kKeep;
+    d.manifold = block == t_wo ? nullptr : &quaternion;
+    return d;
+  };
+  for (double rival_distance : {5.0, 0.4}) {
+    MarginalizationOptions options;
+    options.rival_distance = rival_distance;
+    MarginalizationResult result;
+    ASSERT_TRUE(Marginalize({{edge.get(), nullptr, {q_wc, t_wc, q_wo, t_wo}}},
+                            describe,
+                            options,
+                            &result)
+                    .ok());
+    EXPECT_EQ(result.ambiguous, rival_distance > 0.5 ? 0 : 1) << rival_distance;
+    EXPECT_EQ(result.linearized, rival_distance > 0.5 ? 1 : 0)
+        << rival_distance;
   }
 }
 

@@ -28,17 +28,16 @@ bool ParseMethod(const std::string& name, Method* method);
 // What happens to a keyframe that leaves the window (docs/backend.md "The
 // window"). The batch solve is the same under every policy.
 enum class WindowPolicy {
-  // Its factors leave the problem for good. Its pose is eliminated by the
-  // Schur complement (at the current estimate) from its motion factors and
-  // half of its point observations into a linear prior on the later
-  // keyframes; its object edges, and the other half of its point
-  // observations, are conditioned on its final pose into each object's and
-  // point's own prior. A window solve touches the window's factors and
-  // those priors only: bounded work per keyframe.
+  // Its factors leave the problem for good, linearised at the current
+  // estimate into priors (chain_prior says how): its motion factors into a
+  // prior on the later keyframes, its object edges and point observations,
+  // conditioned on its final pose, into each object's and point's own
+  // prior. A window solve touches the window's factors and those priors
+  // only: bounded work per keyframe. The default.
   kMarginalize,
   // It is held constant with all its factors; every object a window
   // keyframe observes brings all its observations ever (the work grows with
-  // the run). The default.
+  // the run).
   kCondition,
   // Its factors leave the problem and their information is lost; the
   // oldest window keyframe is held constant (the gauge).
@@ -47,6 +46,24 @@ enum class WindowPolicy {
 
 const char* WindowPolicyName(WindowPolicy policy);  // "marginalize", ...
 bool ParseWindowPolicy(const std::string& name, WindowPolicy* policy);
+
+// marginalize: what the keyframe chain keeps of a keyframe that leaves the
+// window (docs/backend.md "The window").
+enum class ChainPrior {
+  // The leaving keyframe's estimate is taken as final, as condition holds
+  // it: its motion factors become a linear prior on the keyframes they
+  // reach, and the leaving keyframe's point observations inform the points
+  // only. The default: it keeps condition's accuracy.
+  kConditional,
+  // The leaving keyframe's pose is eliminated by the Schur complement from
+  // the previous prior, its motion factors and half of each point
+  // observation (the other half goes to the point): the exact fixed-lag
+  // smoother of a linear Gaussian problem.
+  kMarginal,
+};
+
+const char* ChainPriorName(ChainPrior prior);  // "conditional", "marginal"
+bool ParseChainPrior(const std::string& name, ChainPrior* prior);
 
 enum class LossType { kNone, kHuber, kCauchy };
 const char* LossName(LossType loss);  // "none", "huber", "cauchy"
@@ -59,13 +76,18 @@ struct BackendOptions {
   // observe are free; older keyframes are marginalised, held constant or
   // dropped, as window_policy says.
   int window_size = 10;
-  // condition stays the default until marginalize matches its accuracy on
-  // every benchmark (docs/backend.md "The window" has the comparison).
-  WindowPolicy window_policy = WindowPolicy::kCondition;
+  // marginalize keeps condition's accuracy at bounded work per keyframe
+  // (docs/backend.md "The window" has the comparison).
+  WindowPolicy window_policy = WindowPolicy::kMarginalize;
   // marginalize: a max-mixture edge enters the prior with its current
   // winner only if the winner's cost (negative log-likelihood) is this much
-  // below the runner-up's; an ambiguous edge is dropped instead.
+  // below every rival's; an ambiguous edge is dropped instead. A rival is a
+  // component whose whitened residual differs from the winner's by more
+  // than marginalize_rival_distance: components closer than that belong to
+  // the winner's mode and are no competition.
   double marginalize_min_margin = 2.0;
+  double marginalize_rival_distance = 5.0;
+  ChainPrior chain_prior = ChainPrior::kConditional;
   // Levenberg-Marquardt iterations per window solve and per batch solve.
   int max_iterations = 10;
   int batch_max_iterations = 50;

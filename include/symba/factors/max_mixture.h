@@ -60,6 +60,7 @@
 #include <vector>
 
 #include <ceres/sized_cost_function.h>
+#include <Eigen/Core>
 
 namespace symba {
 
@@ -103,10 +104,15 @@ struct HasMixtureLowerBound<
 class MixtureWinnerMargin {
  public:
   virtual ~MixtureWinnerMargin() = default;
-  // margin: the runner-up's cost c_j minus the winner's (infinity with one
-  // component); null_won: the null hypothesis won. False when the model
-  // cannot evaluate there.
+  // margin: the best rival's cost c_j minus the winner's (infinity when
+  // there is no rival). A rival is a component whose whitened residual at
+  // `parameters` differs from the winner's by more than rival_distance
+  // (Euclidean norm): a component that agrees with the winner that closely
+  // would be linearised to nearly the same factor, so it is no competing
+  // mode. null_won: the null hypothesis won. False when the model cannot
+  // evaluate there.
   virtual bool WinnerMargin(double const* const* parameters,
+                            double rival_distance,
                             double* margin,
                             bool* null_won) const = 0;
 };
@@ -199,6 +205,7 @@ class MaxMixtureCostFunction final
 
   // Every component's cost, without the bound's shortcut.
   bool WinnerMargin(double const* const* parameters,
+                    double rival_distance,
                     double* margin,
                     bool* null_won) const override {
     MixtureSelection selection;
@@ -206,12 +213,24 @@ class MaxMixtureCostFunction final
     *null_won = selection.is_null;
     typename Model::Prepared prepared;
     if (!model_.Prepare(parameters, &prepared)) return false;
+    using Residual = Eigen::Matrix<double, Model::kNumResiduals, 1>;
+    Residual winner;
+    if (!model_.Component(selection.component)
+             .Evaluate(parameters, winner.data(), nullptr)) {
+      return false;
+    }
+    const double rival_squared = rival_distance * rival_distance;
     double runner_up = std::numeric_limits<double>::infinity();
     for (int j = 0; j < model_.NumComponents(); ++j) {
       if (j == selection.component) continue;
-      runner_up = std::min(
-          runner_up,
-          0.5 * model_.MixtureSquaredNorm(prepared, j) + log_normalizers_[j]);
+      const double cost =
+          0.5 * model_.MixtureSquaredNorm(prepared, j) + log_normalizers_[j];
+      if (cost >= runner_up) continue;
+      Residual other;
+      if (!model_.Component(j).Evaluate(parameters, other.data(), nullptr)) {
+        return false;
+      }
+      if ((other - winner).squaredNorm() > rival_squared) runner_up = cost;
     }
     *margin = runner_up - selection.cost;
     return true;

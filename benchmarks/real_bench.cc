@@ -98,6 +98,18 @@ struct Sequence {
   std::vector<RealObject> objects;
 };
 
+// symba's other ways to solve, beside the run's window policy.
+struct PolicyVariant {
+  const char* label;
+  symba::ReplayMode mode;
+  symba::WindowPolicy policy;
+};
+constexpr PolicyVariant kPolicyVariants[] = {
+    {"condition", symba::ReplayMode::kWindow, symba::WindowPolicy::kCondition},
+    {"batch", symba::ReplayMode::kBatch, symba::WindowPolicy::kMarginalize},
+};
+constexpr int kNumPolicyVariants = 2;
+
 // One replay of one sequence, scored.
 struct Run {
   double ate = std::nan("");
@@ -267,19 +279,18 @@ std::vector<TrajectoryPose> ToPoses(
   return poses;
 }
 
+// Replays `log` with `options` into <out-dir>/<sequence>/<name> and scores
+// it.
 Status RunMethod(const Flags& flags,
                  const Sequence& s,
                  const std::string& log,
-                 symba::Method method,
+                 const symba::ReplayOptions& options,
+                 const std::string& name,
                  Run* run) {
-  symba::ReplayOptions options;
-  options.backend = flags.backend;
-  options.backend.method = method;
   symba::ReplayResult result;
   Status status = symba::ReplayLog(log, options, &result);
   if (!status.ok()) return status;
-  const fs::path out =
-      fs::path(flags.out_dir) / s.name / symba::MethodName(method);
+  const fs::path out = fs::path(flags.out_dir) / s.name / name;
   status = symba::WriteDirectoryAtomically(
       out.string(), symba::ReplayOutputFiles(log, options, result));
   if (!status.ok()) return status;
@@ -586,9 +597,45 @@ std::string Json(const Flags& flags,
   return out;
 }
 
+// symba under the run's window policy (the first method's runs if it is
+// symba), under condition and as a batch solve, per sequence.
+std::string PolicyTable(const Flags& flags,
+                        const std::vector<Sequence>& sequences,
+                        const std::vector<std::vector<Run>>& runs,
+                        const std::vector<std::vector<Run>>& variant_runs) {
+  const auto symba_at =
+      std::find(flags.methods.begin(), flags.methods.end(), "symba");
+  if (symba_at == flags.methods.end()) return "";
+  const std::vector<Run>& main = runs[symba_at - flags.methods.begin()];
+  const std::string policy =
+      symba::WindowPolicyName(flags.backend.window_policy);
+  std::ostringstream out;
+  out << "| sequence | " << policy << " ATE [m] | condition ATE [m] | "
+      << policy << " / condition | batch ATE [m] | map objects per object ("
+      << policy << "; condition; batch) |\n"
+      << "|---|---:|---:|---:|---:|---|\n";
+  std::vector<double> ratios;
+  for (std::size_t i = 0; i < sequences.size(); ++i) {
+    const Run& condition = variant_runs[0][i];
+    const Run& batch = variant_runs[1][i];
+    ratios.push_back(main[i].ate / condition.ate);
+    out << "| " << sequences[i].name << " | " << Fixed(main[i].ate, 4) << " | "
+        << Fixed(condition.ate, 4) << " | " << Fixed(ratios.back(), 3) << " | "
+        << Fixed(batch.ate, 4) << " | " << Join(main[i].map_objects) << "; "
+        << Join(condition.map_objects) << "; " << Join(batch.map_objects)
+        << " |\n";
+  }
+  out << "| **median** | | | " << Fixed(Median(ratios), 3) << " | | |\n"
+      << "| **worst** | | | "
+      << Fixed(*std::max_element(ratios.begin(), ratios.end()), 3)
+      << " | | |\n";
+  return out.str();
+}
+
 std::string Markdown(const Flags& flags,
                      const std::vector<Sequence>& sequences,
                      const std::vector<std::vector<Run>>& runs,
+                     const std::vector<std::vector<Run>>& variant_runs,
                      const std::string& command) {
   std::ostringstream out;
   out << symba::bench::kRealDataHeading << "\n"
@@ -612,6 +659,16 @@ std::string Markdown(const Flags& flags,
   }
   out << "### Symmetry upgrades\n\n"
       << UpgradeTable(flags, sequences, runs) << "\n";
+  const std::string policies =
+      PolicyTable(flags, sequences, runs, variant_runs);
+  if (!policies.empty()) {
+    out << "### Window policies (symba)\n\n"
+        << policies << "\n"
+        << "symba's ATE with the run's window policy, with `condition` "
+           "(keyframes that leave the window held constant with all their "
+           "factors) and as one batch solve ([backend.md](backend.md) \"The "
+           "window\").\n\n";
+  }
   for (std::size_t m = 0; m < flags.methods.size(); ++m) {
     out << "### " << flags.methods[m] << "\n\n"
         << MethodTable(sequences, runs[m]) << "\n";
@@ -685,9 +742,17 @@ int main(int argc, char** argv) {
                  "keyframes leaving the window: condition, marginalize or drop")
       ->check(CLI::IsMember({"condition", "marginalize", "drop"}))
       ->capture_default_str();
+  std::string chain_prior = symba::ChainPriorName(flags.backend.chain_prior);
+  app.add_option("--chain-prior",
+                 chain_prior,
+                 "marginalize: the keyframe chain's prior, conditional or "
+                 "marginal")
+      ->check(CLI::IsMember({"conditional", "marginal"}))
+      ->capture_default_str();
   app.add_flag("--quiet", flags.quiet, "no progress on stderr");
   CLI11_PARSE(app, argc, argv);
   symba::ParseWindowPolicy(window_policy, &flags.backend.window_policy);
+  symba::ParseChainPrior(chain_prior, &flags.backend.chain_prior);
 
   const auto fail = [](const std::string& message) {
     std::fprintf(stderr, "symba-real-bench: %s\n", message.c_str());
@@ -709,6 +774,7 @@ int main(int argc, char** argv) {
 
   std::vector<Sequence> sequences(flags.sequences.size());
   std::vector<std::vector<Run>> runs(flags.methods.size());
+  std::vector<std::vector<Run>> variant_runs(kNumPolicyVariants);
   for (std::size_t i = 0; i < sequences.size(); ++i) {
     Sequence& s = sequences[i];
     Status status = LoadSequence(fs::path(flags.data) / flags.sequences[i], &s);
@@ -723,10 +789,11 @@ int main(int argc, char** argv) {
                      flags.methods[m].c_str(),
                      s.keyframes);
       }
-      symba::Method method = symba::Method::kSymba;
-      symba::ParseMethod(flags.methods[m], &method);
+      symba::ReplayOptions options;
+      options.backend = flags.backend;
+      symba::ParseMethod(flags.methods[m], &options.backend.method);
       Run run;
-      status = RunMethod(flags, s, log, method, &run);
+      status = RunMethod(flags, s, log, options, flags.methods[m], &run);
       if (!status.ok()) return fail(s.name + ": " + status.message());
       const std::string title =
           s.name + ", " + flags.methods[m] + ": ATE " + Fixed(run.ate, 3) +
@@ -746,10 +813,26 @@ int main(int argc, char** argv) {
       if (!status.ok()) return fail(status.message());
       runs[m].push_back(std::move(run));
     }
+    for (int v = 0; v < kNumPolicyVariants; ++v) {
+      symba::ReplayOptions options;
+      options.backend = flags.backend;
+      options.backend.method = symba::Method::kSymba;
+      options.backend.window_policy = kPolicyVariants[v].policy;
+      options.mode = kPolicyVariants[v].mode;
+      Run run;
+      status = RunMethod(flags,
+                         s,
+                         log,
+                         options,
+                         std::string("symba-") + kPolicyVariants[v].label,
+                         &run);
+      if (!status.ok()) return fail(s.name + ": " + status.message());
+      variant_runs[v].push_back(std::move(run));
+    }
   }
 
-  const std::string markdown =
-      Markdown(flags, sequences, runs, symba::bench::Command(argc, argv));
+  const std::string markdown = Markdown(
+      flags, sequences, runs, variant_runs, symba::bench::Command(argc, argv));
   std::fputs(markdown.c_str(), stdout);
   Status status = symba::bench::WriteText(
       (fs::path(flags.out_dir) / "ate-ratio.svg").string(),

@@ -69,12 +69,38 @@ constexpr MethodInfo kMethods[] = {
 };
 constexpr int kNumMethods = 4;
 
+// symba (merged modes) under each window policy and as one batch solve, for
+// the window-policy table. They are kept in Runs after the methods, at
+// kNumMethods + v; the one that equals the main symba run reuses it.
+struct SymbaVariant {
+  const char* label;
+  const char* dir;
+  symba::ReplayMode mode;
+  symba::WindowPolicy policy;
+};
+constexpr SymbaVariant kVariants[] = {
+    {"marginalize",
+     "symba-marginalize",
+     symba::ReplayMode::kWindow,
+     symba::WindowPolicy::kMarginalize},
+    {"condition",
+     "symba-condition",
+     symba::ReplayMode::kWindow,
+     symba::WindowPolicy::kCondition},
+    {"batch",
+     "symba-batch",
+     symba::ReplayMode::kBatch,
+     symba::WindowPolicy::kMarginalize},
+};
+constexpr int kNumVariants = 3;
+
 struct Flags {
   std::vector<std::string> scenes = {"disc", "cts", "asym", "square", "room"};
   int seeds = 3;
   std::string out_dir = SYMBA_BENCH_DEFAULT_OUT_DIR;
   std::string results_md = SYMBA_SOURCE_DIR "/docs/results.md";
   symba::WindowPolicy window_policy = symba::WindowPolicy::kMarginalize;
+  symba::ChainPrior chain_prior = symba::ChainPrior::kConditional;
   bool quiet = false;
 };
 
@@ -88,6 +114,29 @@ struct Run {
 
 // runs[scene][method][seed].
 using Runs = std::map<std::string, std::vector<std::vector<Run>>>;
+
+// Replays `log` into `out_dir` and evaluates it against `sequence_dir`.
+Status ReplayAndEvaluate(const std::string& log,
+                         const symba::ReplayOptions& options,
+                         const fs::path& sequence_dir,
+                         const fs::path& out_dir,
+                         Run* run) {
+  symba::ReplayResult result;
+  Status status = symba::ReplayLog(log, options, &result);
+  if (!status.ok()) return status;
+  status = symba::WriteDirectoryAtomically(
+      out_dir.string(), symba::ReplayOutputFiles(log, options, result));
+  if (!status.ok()) return status;
+  status = symba::Evaluate(
+      sequence_dir.string(), out_dir.string(), &run->evaluation);
+  if (!status.ok()) return status;
+  run->ms_per_keyframe =
+      result.keyframes.empty()
+          ? 0.0
+          : 1e3 * result.seconds / static_cast<double>(result.keyframes.size());
+  return WriteText(out_dir / "evaluation.json",
+                   symba::FormatEvaluationJson(run->evaluation));
+}
 
 // Simulates, replays with every method, evaluates, draws (seed 0).
 Status RunSeed(const Flags& flags,
@@ -122,25 +171,10 @@ Status RunSeed(const Flags& flags,
     options.backend.method = kMethods[m].method;
     options.backend.merge_modes = kMethods[m].merge_modes;
     options.backend.window_policy = flags.window_policy;
-    symba::ReplayResult result;
-    status = symba::ReplayLog(log, options, &result);
-    if (!status.ok()) return status;
+    options.backend.chain_prior = flags.chain_prior;
     const fs::path method_dir = sequence_dir / name;
-    status = symba::WriteDirectoryAtomically(
-        method_dir.string(), symba::ReplayOutputFiles(log, options, result));
-    if (!status.ok()) return status;
-
     Run run;
-    status = symba::Evaluate(
-        sequence_dir.string(), method_dir.string(), &run.evaluation);
-    if (!status.ok()) return status;
-    run.ms_per_keyframe =
-        result.keyframes.empty()
-            ? 0.0
-            : 1e3 * result.seconds /
-                  static_cast<double>(result.keyframes.size());
-    status = WriteText(method_dir / "evaluation.json",
-                       symba::FormatEvaluationJson(run.evaluation));
+    status = ReplayAndEvaluate(log, options, sequence_dir, method_dir, &run);
     if (!status.ok()) return status;
     (*runs)[m].push_back(run);
 
@@ -162,6 +196,21 @@ Status RunSeed(const Flags& flags,
           symba::bench::TopDownSvg(gt, outputs, title, kMethods[m].color));
       if (!status.ok()) return status;
     }
+  }
+  for (int v = 0; v < kNumVariants; ++v) {
+    const SymbaVariant& variant = kVariants[v];
+    Run run = (*runs)[0].back();
+    if (variant.mode == symba::ReplayMode::kBatch ||
+        variant.policy != flags.window_policy) {
+      symba::ReplayOptions options;
+      options.mode = variant.mode;
+      options.backend.window_policy = variant.policy;
+      options.backend.chain_prior = flags.chain_prior;
+      status = ReplayAndEvaluate(
+          log, options, sequence_dir, sequence_dir / variant.dir, &run);
+      if (!status.ok()) return status;
+    }
+    (*runs)[kNumMethods + v].push_back(run);
   }
   return Status::Ok();
 }
@@ -313,6 +362,33 @@ std::string TimingTable(const Flags& flags, const Runs& runs) {
   return out.str();
 }
 
+// symba's keyframe RMSE and map objects under each window policy and batch.
+std::string WindowPolicyTable(const Flags& flags, const Runs& runs) {
+  std::ostringstream out;
+  out << "| scene | marginalize [m] | condition [m] | marginalize / "
+         "condition | batch [m] | map objects per object, max "
+         "(marginalize, condition, batch) |\n"
+      << "|---|---:|---:|---:|---:|---:|\n";
+  for (const std::string& scene : flags.scenes) {
+    const auto& per_method = runs.at(scene);
+    double rmse[kNumVariants];
+    std::string most;
+    for (int v = 0; v < kNumVariants; ++v) {
+      const std::vector<Run>& r = per_method[kNumMethods + v];
+      rmse[v] = MeanOf(r, PositionRmse);
+      int worst = 0;
+      for (const Run& run : r) {
+        worst = std::max(worst, run.evaluation.MaxFragmentation());
+      }
+      most += (v == 0 ? "" : ", ") + std::to_string(worst);
+    }
+    out << "| " << scene << " | " << Fixed(rmse[0], 3) << " | "
+        << Fixed(rmse[1], 3) << " | " << Fixed(rmse[0] / rmse[1], 2) << " | "
+        << Fixed(rmse[2], 3) << " | " << most << " |\n";
+  }
+  return out.str();
+}
+
 // ---------------------------------------------------------------------------
 // Acceptance checks of project issue 6, on the scenes that were run.
 
@@ -459,6 +535,16 @@ std::string ResultsMarkdown(const Flags& flags,
          "window solves) divided by the keyframes. The only numbers here "
          "that change from run to run.\n\n";
 
+  out << "## Window policies (symba)\n\n"
+      << WindowPolicyTable(flags, runs) << "\n"
+      << "symba's keyframe position RMSE (mean over the seeds) when the "
+         "keyframes that leave the window are marginalised (the default) or "
+         "held constant with all their factors, and as one batch solve at "
+         "the end (`symba replay --window-policy`, `--mode batch`; "
+         "[backend.md](backend.md) \"The window\"). Map objects per object: "
+         "the largest number of map objects one ground-truth object's "
+         "detections went to, over objects and seeds (1 is right).\n\n";
+
   out << "## Acceptance checks (project issue 6)\n\n"
       << AcceptanceChecks(runs) << "\n";
 
@@ -508,9 +594,17 @@ int main(int argc, char** argv) {
                  "keyframes leaving the window: condition, marginalize or drop")
       ->check(CLI::IsMember({"condition", "marginalize", "drop"}))
       ->capture_default_str();
+  std::string chain_prior = symba::ChainPriorName(flags.chain_prior);
+  app.add_option("--chain-prior",
+                 chain_prior,
+                 "marginalize: the keyframe chain's prior, conditional or "
+                 "marginal")
+      ->check(CLI::IsMember({"conditional", "marginal"}))
+      ->capture_default_str();
   app.add_flag("--quiet", flags.quiet, "no progress on stderr");
   CLI11_PARSE(app, argc, argv);
   symba::ParseWindowPolicy(window_policy, &flags.window_policy);
+  symba::ParseChainPrior(chain_prior, &flags.chain_prior);
 
   std::error_code error;
   fs::create_directories(flags.out_dir, error);
@@ -532,7 +626,7 @@ int main(int argc, char** argv) {
   Runs runs;
   for (const std::string& scene : flags.scenes) {
     std::vector<std::vector<Run>>& per_method = runs[scene];
-    per_method.resize(kNumMethods);
+    per_method.resize(kNumMethods + kNumVariants);
     for (int seed = 0; seed < flags.seeds; ++seed) {
       const Status status =
           RunSeed(flags, scene, static_cast<uint32_t>(seed), &per_method);

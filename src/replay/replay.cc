@@ -55,7 +55,8 @@ Status ReplayLog(const std::string& log_path,
     ++count;
     if (options.progress) options.progress(count);
   }
-  if (options.mode == ReplayMode::kBatch && count > 0) {
+  const bool batch = options.mode == ReplayMode::kBatch || options.final_batch;
+  if (batch && count > 0) {
     status = backend->OptimizeBatch(&replay.last_solve);
     if (!status.ok()) return Status::Error(log_path + ": " + status.message());
   }

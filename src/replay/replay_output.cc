@@ -45,7 +45,8 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
   json.BeginObject()
       .Member("log", log_path)
       .Member("method", MethodName(b.method))
-      .Member("mode", ReplayModeName(options.mode));
+      .Member("mode", ReplayModeName(options.mode))
+      .Member("final_batch", options.final_batch);
   json.Key("counts")
       .BeginObject()
       .Member("keyframes", s.keyframes)

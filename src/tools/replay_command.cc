@@ -30,6 +30,7 @@ struct ReplayFlags {
   std::string mode = "window";
   std::string loss;
   bool quiet = false;
+  bool final_batch = false;
   bool g2o_isotropic = false;
   double gate_axis_deg = 0.0;
   double gate_rotation_deg = 0.0;
@@ -66,6 +67,10 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                   "one solve at the end")
       ->check(CLI::IsMember({"window", "batch"}))
       ->capture_default_str();
+  cmd->add_flag("--final-batch",
+                f->final_batch,
+                "window mode: one batch solve over every factor after the "
+                "last keyframe");
   cmd->add_option("--window", b.window_size, "keyframes free in a window")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
@@ -255,6 +260,7 @@ int RunReplay(const ReplayFlags& f) {
   symba::ParseWindowPolicy(f.window_policy, &options.backend.window_policy);
   symba::ParseChainPrior(f.chain_prior, &options.backend.chain_prior);
   symba::ParseReplayMode(f.mode, &options.mode);
+  options.final_batch = f.final_batch;
   symba::ParseLoss(f.loss, &options.backend.object_loss);
   options.backend.gate_axis = f.gate_axis_deg * kDeg;
   options.backend.gate_rotation = f.gate_rotation_deg * kDeg;

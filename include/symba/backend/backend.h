@@ -11,20 +11,22 @@
 //   OptimizeWindow   the last K = window_size keyframes and everything they
 //                    observe are free. What happens to older keyframes is
 //                    options().window_policy:
-//                      condition (default): older keyframes that share an
-//                        object or a point with the window are held
-//                        constant with all their factors (the cost grows
-//                        with the run).
-//                      marginalize: when a keyframe leaves the window, its
-//                        factors leave the problem for good and its pose is
-//                        final. Its motion factors (and half of its point
-//                        observations) become a linear prior on the later
-//                        keyframes (Schur complement at the estimate of
-//                        that moment); its object edges (and the other half
-//                        of its point observations) become each object's
-//                        and point's own prior, conditioned on its pose. A
-//                        solve holds the window's factors and those priors:
-//                        its cost does not grow with the length of the run.
+//                      marginalize (default): when a keyframe leaves the
+//                        window, its factors leave the problem for good and
+//                        its pose is final. Its motion factors become a
+//                        linear prior on the later keyframes (with
+//                        chain_prior kConditional, the default, given its
+//                        pose; with kMarginal, its pose eliminated by the
+//                        Schur complement with the previous prior and half
+//                        of its point observations); its object edges and
+//                        point observations become each object's and
+//                        point's own prior, conditioned on its pose. All
+//                        linearised at the estimate of that moment. A solve
+//                        holds the window's factors and those priors: its
+//                        cost does not grow with the length of the run.
+//                      condition: older keyframes that share an object or a
+//                        point with the window are held constant with all
+//                        their factors (the cost grows with the run).
 //                      drop: older keyframes' factors leave the problem and
 //                        their information is lost; the oldest window
 //                        keyframe is held constant.

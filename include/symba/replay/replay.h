@@ -22,6 +22,10 @@ bool ParseReplayMode(const std::string& name, ReplayMode* mode);
 
 struct ReplayOptions {
   ReplayMode mode = ReplayMode::kWindow;
+  // Window mode: after the last keyframe, one batch solve over every factor
+  // ever added (the smoothed trajectory and map; association stays as the
+  // window made it).
+  bool final_batch = false;
   BackendOptions backend;
   // Called after each keyframe with the number replayed so far (optional).
   std::function<void(int)> progress;

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -170,24 +171,60 @@ Status Replay(const Flags& flags,
   return Status::Ok();
 }
 
-Status ReadRun(const std::string& path, PolicyRun* run) {
+Status ReadRun(const std::string& path, int keyframes, PolicyRun* run) {
   std::ifstream in(path);
   if (!in) return Status::Error(path + ": cannot read");
+  const char* keys[6] = {"keyframes",
+                         "rmse_prefix",
+                         "rmse_all",
+                         "map_objects",
+                         "fragmentation_mean",
+                         "fragmentation_max"};
   std::string key;
-  in >> key >> run->keyframes >> key >> run->rmse_prefix >> key >>
-      run->rmse_all >> key >> run->map_objects >> key >>
-      run->fragmentation_mean >> key >> run->fragmentation_max;
+  for (int i = 0; i < 6; ++i) {
+    in >> key;
+    if (!in || key != keys[i]) {
+      return Status::Error(path + ": expected " + keys[i]);
+    }
+    switch (i) {
+      case 0:
+        in >> run->keyframes;
+        break;
+      case 1:
+        in >> run->rmse_prefix;
+        break;
+      case 2:
+        in >> run->rmse_all;
+        break;
+      case 3:
+        in >> run->map_objects;
+        break;
+      case 4:
+        in >> run->fragmentation_mean;
+        break;
+      default:
+        in >> run->fragmentation_max;
+        break;
+    }
+  }
+  if (!in || run->keyframes != keyframes) {
+    return Status::Error(path + ": not the " + std::to_string(keyframes) +
+                         " keyframes replayed");
+  }
   for (int k = 0; k < run->keyframes; ++k) {
-    int index = 0;
+    int index = -1;
     double ms = 0.0;
     int residual_blocks = 0;
     int parameter_blocks = 0;
     in >> index >> ms >> residual_blocks >> parameter_blocks;
+    if (!in || index != k) {
+      return Status::Error(path + ": keyframe " + std::to_string(k) +
+                           ": missing or malformed");
+    }
     run->ms.push_back(ms);
     run->residual_blocks.push_back(residual_blocks);
     run->parameter_blocks.push_back(parameter_blocks);
   }
-  if (!in) return Status::Error(path + ": truncated");
   return Status::Ok();
 }
 
@@ -213,18 +250,23 @@ Status RunPolicy(const Flags& flags,
   }
   int wait_status = 0;
   struct rusage usage {};
-  if (wait4(pid, &wait_status, 0, &usage) != pid || !WIFEXITED(wait_status) ||
+  pid_t waited = -1;
+  do {
+    waited = wait4(pid, &wait_status, 0, &usage);
+  } while (waited < 0 && errno == EINTR);
+  if (waited != pid || !WIFEXITED(wait_status) ||
       WEXITSTATUS(wait_status) != 0) {
     return Status::Error(std::string(symba::WindowPolicyName(policy)) +
                          ": the replay failed");
   }
   run->policy = policy;
   run->peak_rss_kb = usage.ru_maxrss;
-  return ReadRun(RunPath(flags, policy), run);
+  return ReadRun(RunPath(flags, policy), keyframes, run);
 }
 
 // Mean of v[begin, end) clipped to v's size; NaN when empty.
 double MeanOver(const std::vector<double>& v, int begin, int end) {
+  begin = std::max(begin, 0);
   end = std::min<int>(end, static_cast<int>(v.size()));
   if (begin >= end) return std::nan("");
   double sum = 0.0;
@@ -233,6 +275,7 @@ double MeanOver(const std::vector<double>& v, int begin, int end) {
 }
 
 int MaxOver(const std::vector<int>& v, int begin, int end) {
+  begin = std::max(begin, 0);
   end = std::min<int>(end, static_cast<int>(v.size()));
   int most = 0;
   for (int i = begin; i < end; ++i) most = std::max(most, v[i]);
@@ -330,10 +373,12 @@ std::string Report(const Flags& flags,
          "lap, [simulation.md](simulation.md)); window "
       << flags.window
       << ", one Ceres thread, default `BackendOptions` otherwise. Each "
-         "policy replays in a process of its own; condition replays the "
-         "first "
-      << runs.back().keyframes
-      << " keyframes only (its cost grows with the run).\n\n";
+         "policy replays in a process of its own"
+      << (runs.size() > 1 ? "; condition replays the first " +
+                                std::to_string(runs.back().keyframes) +
+                                " keyframes only (its cost grows with the run)"
+                          : std::string())
+      << ".\n\n";
   out << "| keyframes |";
   for (const PolicyRun& run : runs) {
     out << " " << symba::WindowPolicyName(run.policy) << " [ms] |";
@@ -459,6 +504,13 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   flags.condition_keyframes =
       std::min(flags.condition_keyframes, flags.keyframes);
+  if (flags.condition_keyframes > 0 && flags.condition_keyframes < 1500) {
+    // The report compares keyframes 500-1499 with the last 1000.
+    std::fprintf(stderr,
+                 "symba-window-bench: --condition-keyframes: 0 or at least "
+                 "1500\n");
+    return 1;
+  }
   flags.accuracy_keyframes =
       std::min(flags.accuracy_keyframes,
                flags.condition_keyframes > 0 ? flags.condition_keyframes

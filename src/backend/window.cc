@@ -1,9 +1,12 @@
 // Backend::Impl: keyframes leaving the window (docs/backend.md "The
-// window"). Under marginalize, a leaving keyframe's factors and the current
-// prior are linearised and the keyframe's pose is eliminated by the Schur
-// complement (marginalization.h); the result is the new prior. Under drop
-// its factors just leave. Every step here touches the leaving keyframe's
-// factors and the prior only.
+// window"). Under marginalize, a leaving keyframe's factors are linearised
+// into priors (marginalization.h): its motion factors into the keyframe
+// prior (given its pose under the conditional chain prior; with its pose
+// eliminated by the Schur complement, together with the current prior,
+// under the marginal one), its object edges and point observations into
+// each object's and point's own prior, given its pose. Under drop its
+// factors just leave. Every step here touches the leaving keyframe's
+// factors and the priors only.
 #include <algorithm>
 #include <utility>
 

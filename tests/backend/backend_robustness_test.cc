@@ -347,6 +347,41 @@ TEST(BackendWindow, ResidualBlocksStayBoundedOverALongRun) {
   }
 }
 
+// A box seen by keyframe 0 and again by keyframe 29 after 29 steps of
+// drifting odometry: the revisit pulls the window towards the box. The
+// conditional chain anchors the window's oldest keyframe to the previous
+// one's final pose (one odometry sigma); the marginal chain only with the
+// uncertainty accumulated over the keyframes that left, so the window
+// moves further.
+TEST(BackendWindow, ConditionalChainAnchorsTheWindowMoreThanTheMarginalOne) {
+  const std::vector<KeyframeInput> keyframes = BoxKeyframes(30, {0, 29});
+  double moved[2] = {0.0, 0.0};
+  const ChainPrior priors[2] = {ChainPrior::kConditional,
+                                ChainPrior::kMarginal};
+  for (int i = 0; i < 2; ++i) {
+    BackendOptions options;
+    options.window_size = 3;
+    options.confirm_keyframes = 1;
+    options.chain_prior = priors[i];
+    std::unique_ptr<Backend> backend;
+    ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
+    for (const KeyframeInput& kf : keyframes) {
+      ASSERT_TRUE(backend->AddKeyframe(kf).ok());
+      if (kf.id == 29) break;
+      ASSERT_TRUE(backend->OptimizeWindow().ok());
+    }
+    const std::optional<KeyframeEstimate> before = backend->Keyframe(29);
+    ASSERT_TRUE(backend->OptimizeWindow().ok());
+    const std::optional<KeyframeEstimate> after = backend->Keyframe(29);
+    ASSERT_TRUE(before && after);
+    ASSERT_EQ(backend->Objects().size(), 1u) << "the revisit associates";
+    moved[i] = (after->T_wc.t - before->T_wc.t).norm();
+  }
+  EXPECT_GT(moved[0], 0.001);  // m: measured 0.007 conditional, 0.27 marginal
+  EXPECT_GT(moved[1], 10.0 * moved[0])
+      << "conditional " << moved[0] << " m, marginal " << moved[1] << " m";
+}
+
 TEST(BackendWindow, ConditionHoldsOlderKeyframesAndOldEdgesReenter) {
   BackendOptions options;
   options.window_policy = WindowPolicy::kCondition;

@@ -464,5 +464,52 @@ TEST(Marginalize, ComponentsOfOneModeAreNoRivals) {
   }
 }
 
+// Three components of equal weight about z: A at 0, B at -0.001 rad (A's
+// mode: their whitened residuals differ by 0.01) and C at pi (another
+// mode). At an object angle just below pi / 2 A wins, B is next and C,
+// within the margin, third. B must not hide C: the margin is C's cost over
+// A's, exactly as on an edge without B.
+TEST(Marginalize, ACloserNonRivalDoesNotHideARival) {
+  auto component = [](double angle) {
+    PoseComponent c;
+    c.T_co = Rigid3d(
+        Eigen::Quaterniond(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ())),
+        Eigen::Vector3d(0, 0, 2));
+    c.sqrt_info = IsotropicPoseSqrtInfo(0.05, 0.1);
+    c.weight = 1.0;
+    return c;
+  };
+  std::unique_ptr<AsymmetricObjectEdge> abc;
+  std::unique_ptr<AsymmetricObjectEdge> ac;
+  ASSERT_TRUE(CreateAsymmetricObjectEdge(
+                  {component(0.0), component(-0.001), component(kPi)},
+                  MixtureOptions(),
+                  &abc)
+                  .ok());
+  ASSERT_TRUE(CreateAsymmetricObjectEdge(
+                  {component(0.0), component(kPi)}, MixtureOptions(), &ac)
+                  .ok());
+  double q_wc[4] = {0, 0, 0, 1};
+  double t_wc[3] = {0, 0, 0};
+  const Eigen::Quaterniond R_wo(
+      Eigen::AngleAxisd(kPi / 2 - 0.003, Eigen::Vector3d::UnitZ()));
+  double q_wo[4] = {R_wo.x(), R_wo.y(), R_wo.z(), R_wo.w()};
+  double t_wo[3] = {0, 0, 2};
+  const double* parameters[4] = {q_wc, t_wc, q_wo, t_wo};
+  double without_b = 0.0;
+  double with_b = 0.0;
+  double b_as_rival = 0.0;
+  bool null_won = true;
+  ASSERT_TRUE(ac->WinnerMargin(parameters, 5.0, &without_b, &null_won));
+  EXPECT_FALSE(null_won);
+  ASSERT_TRUE(abc->WinnerMargin(parameters, 5.0, &with_b, &null_won));
+  ASSERT_TRUE(abc->WinnerMargin(parameters, 0.001, &b_as_rival, &null_won));
+  EXPECT_GT(without_b, 0.0);
+  EXPECT_LT(without_b, MarginalizationOptions().min_winner_margin);
+  EXPECT_NEAR(with_b, without_b, 1e-9);
+  EXPECT_GT(b_as_rival, 0.0);
+  EXPECT_LT(b_as_rival, without_b);  // B's cost is between A's and C's
+}
+
 }  // namespace
 }  // namespace symba::internal

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <string>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include "symba/simulation/scene.h"
@@ -18,9 +20,9 @@ namespace fs = std::filesystem;
 class ReplayTest : public ::testing::Test {
  protected:
   void SetUp() override {
+    // The process id keeps two runs of the suite apart.
     dir_ = fs::temp_directory_path() /
-           ("symba_replay_test_" +
-            std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+           ("symba_replay_test_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     SimulationOptions options;
     options.num_keyframes = 30;

@@ -19,8 +19,9 @@
 //                        pose; with kMarginal, its pose eliminated by the
 //                        Schur complement with the previous prior and half
 //                        of its point observations); its object edges and
-//                        point observations become each object's and
-//                        point's own prior, conditioned on its pose. All
+//                        point observations (the other halves under
+//                        kMarginal) become each object's and point's own
+//                        prior, conditioned on its pose. All
 //                        linearised at the estimate of that moment. A solve
 //                        holds the window's factors and those priors: its
 //                        cost does not grow with the length of the run.

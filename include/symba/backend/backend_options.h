@@ -57,8 +57,10 @@ enum class ChainPrior {
   kConditional,
   // The leaving keyframe's pose is eliminated by the Schur complement from
   // the previous prior, its motion factors and half of each point
-  // observation (the other half goes to the point): the exact fixed-lag
-  // smoother of a linear Gaussian problem.
+  // observation (the point held at its estimate; the other half goes to the
+  // point's prior): the chain keeps the accumulated uncertainty of the
+  // keyframes that left. Exact for the chain alone; the points and objects
+  // are conditioned, not marginalised jointly.
   kMarginal,
 };
 
@@ -83,8 +85,9 @@ struct BackendOptions {
   // winner only if the winner's cost (negative log-likelihood) is this much
   // below every rival's; an ambiguous edge is dropped instead. A rival is a
   // component whose whitened residual differs from the winner's by more
-  // than marginalize_rival_distance: components closer than that belong to
-  // the winner's mode and are no competition.
+  // than marginalize_rival_distance: closer components are taken as the
+  // winner's mode (the frozen winner may then be off by up to that many
+  // whitened units for them; docs/backend.md "The window").
   double marginalize_min_margin = 2.0;
   double marginalize_rival_distance = 5.0;
   ChainPrior chain_prior = ChainPrior::kConditional;

@@ -107,10 +107,10 @@ class MixtureWinnerMargin {
   // margin: the best rival's cost c_j minus the winner's (infinity when
   // there is no rival). A rival is a component whose whitened residual at
   // `parameters` differs from the winner's by more than rival_distance
-  // (Euclidean norm): a component that agrees with the winner that closely
-  // would be linearised to nearly the same factor, so it is no competing
-  // mode. null_won: the null hypothesis won. False when the model cannot
-  // evaluate there.
+  // (Euclidean norm, each residual whitened by its own component): a
+  // component that close is taken as part of the winner's mode, not as a
+  // competing one. null_won: the null hypothesis won. False when the model
+  // cannot evaluate there.
   virtual bool WinnerMargin(double const* const* parameters,
                             double rival_distance,
                             double* margin,

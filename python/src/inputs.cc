@@ -80,7 +80,7 @@ void SetPoints(KeyframeInput& keyframe,
   if (uv.ndim() != 2 || uv.shape(0) != m || uv.shape(1) != 2) {
     ThrowValueError("point_uv",
                     "expected shape (" + m_text +
-                        ", 2), one [u, v] per point id, got " +
+                        ", 2), one [u, v] per point id, got shape " +
                         ShapeString(uv));
   }
   CheckFinite(uv, "point_uv");
@@ -90,7 +90,7 @@ void SetPoints(KeyframeInput& keyframe,
     if (depth->ndim() != 1 || depth->shape(0) != m) {
       ThrowValueError("point_depth",
                       "expected shape (" + m_text +
-                          ",), one depth per point id, got " +
+                          ",), one depth per point id, got shape " +
                           ShapeString(*depth));
     }
     CheckFinite(*depth, "point_depth");

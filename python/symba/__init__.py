@@ -47,6 +47,8 @@ from ._symba import (
     write_log,
 )
 
+Error.__module__ = __name__
+
 __all__ = [
     "AngleCluster",
     "Assignment",

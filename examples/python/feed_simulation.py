@@ -89,7 +89,9 @@ def main():
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_title(f"{args.scene}, seed {args.seed}")
-    ax.legend(loc="best", fontsize="small")
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=3,
+              fontsize="small")
+    fig.tight_layout()
     fig.savefig(args.out, dpi=100)
     print(f"wrote {args.out}")
 

@@ -78,7 +78,13 @@ std::string IndexString(const std::vector<py::ssize_t>& index) {
 }
 
 // The pose at `a`'s first axis entry `i` (or the whole array when i < 0).
-Rigid3d ReadPose(const py::array& a, py::ssize_t i, const std::string& name) {
+// Errors name `array_name` (and the entry): the name is built only then.
+Rigid3d ReadPose(const py::array& a,
+                 py::ssize_t i,
+                 const std::string& array_name) {
+  const auto name = [&] {
+    return i < 0 ? array_name : array_name + "[" + std::to_string(i) + "]";
+  };
   const char* base = static_cast<const char*>(a.data());
   const int lead = i < 0 ? 0 : 1;
   const py::ssize_t offset0 = i < 0 ? 0 : i * a.strides(0);
@@ -102,19 +108,20 @@ Rigid3d ReadPose(const py::array& a, py::ssize_t i, const std::string& name) {
   }
   if (at(3, 0) != 0.0 || at(3, 1) != 0.0 || at(3, 2) != 0.0 ||
       at(3, 3) != 1.0) {
-    ThrowValueError(name, "the last row of a 4 x 4 pose must be [0, 0, 0, 1]");
+    ThrowValueError(name(),
+                    "the last row of a 4 x 4 pose must be [0, 0, 0, 1]");
   }
   const double error =
       (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
   if (error > 1e-3) {
-    ThrowValueError(name,
+    ThrowValueError(name(),
                     "not a rotation: R^T R differs from the identity by " +
                         Repr(error) + " (more than 1e-3)");
   }
   const double det = R.determinant();
   if (!(det > 0.0)) {
     ThrowValueError(
-        name, "not a rotation: det(R) = " + Repr(det) + " is not positive");
+        name(), "not a rotation: det(R) = " + Repr(det) + " is not positive");
   }
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(
       R, Eigen::ComputeFullU | Eigen::ComputeFullV);
@@ -154,6 +161,16 @@ py::array Int64Array(py::handle value, const std::string& name) {
 }
 
 void CheckFinite(const py::array& array, const std::string& name) {
+  // Fast path: a C-contiguous array is one run of doubles; the slow path
+  // below finds the bad element's index.
+  if (array.flags() & py::array::c_style) {
+    const double* data = static_cast<const double*>(array.data());
+    bool finite = true;
+    for (py::ssize_t n = 0; n < array.size(); ++n) {
+      finite = finite && std::isfinite(data[n]);
+    }
+    if (finite) return;
+  }
   ForEachDouble(
       array, [&](const std::vector<py::ssize_t>& index, double value) {
         if (std::isfinite(value)) return true;
@@ -204,7 +221,7 @@ std::vector<Rigid3d> PosesFromPython(py::handle value,
   std::vector<Rigid3d> poses;
   poses.reserve(array.shape(0));
   for (py::ssize_t i = 0; i < array.shape(0); ++i) {
-    poses.push_back(ReadPose(array, i, name + "[" + std::to_string(i) + "]"));
+    poses.push_back(ReadPose(array, i, name));
   }
   return poses;
 }

@@ -5,7 +5,8 @@ file(GLOB_RECURSE files
   ${SOURCE_DIR}/include/*.h
   ${SOURCE_DIR}/src/*.h ${SOURCE_DIR}/src/*.cc
   ${SOURCE_DIR}/tests/*.h ${SOURCE_DIR}/tests/*.cc
-  ${SOURCE_DIR}/benchmarks/*.h ${SOURCE_DIR}/benchmarks/*.cc)
+  ${SOURCE_DIR}/benchmarks/*.h ${SOURCE_DIR}/benchmarks/*.cc
+  ${SOURCE_DIR}/python/*.h ${SOURCE_DIR}/python/*.cc)
 execute_process(
   COMMAND ${CLANG_FORMAT} --dry-run --Werror --style=file ${files}
   RESULT_VARIABLE rc ERROR_VARIABLE err)

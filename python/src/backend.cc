@@ -1,0 +1,230 @@
+// Backend and what it reports: Trajectory, MapObject, Assignment,
+// SolveReport, BackendStatistics.
+//
+// The GIL is held during every Backend call: the backend is not
+// thread-safe, and holding the GIL keeps two Python threads from using one
+// backend at once.
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bindings.h"
+#include "convert.h"
+#include "estimates.h"
+#include "symba/backend/backend.h"
+
+namespace symba::python {
+
+Trajectory MakeTrajectory(const std::vector<KeyframeEstimate>& keyframes) {
+  std::vector<std::int64_t> ids;
+  std::vector<double> timestamps;
+  ids.reserve(keyframes.size());
+  timestamps.reserve(keyframes.size());
+  for (const KeyframeEstimate& k : keyframes) {
+    ids.push_back(k.id);
+    timestamps.push_back(k.timestamp);
+  }
+  return Trajectory{
+      OwnedArray(std::move(ids)),
+      DoublesToPython(std::move(timestamps)),
+      PosesToPython(
+          keyframes,
+          [](const KeyframeEstimate& k) -> const auto& { return k.T_wc; })};
+}
+
+namespace {
+
+py::object UpgradeToPython(const MapObjectEstimate& o) {
+  if (!o.upgrade) return py::none();
+  py::dict upgrade;
+  upgrade["keyframe"] = o.upgrade->keyframe;
+  upgrade["evidence"] = o.upgrade->evidence;
+  upgrade["order"] = o.upgrade->order;
+  upgrade["angle"] = o.upgrade->angle;
+  return std::move(upgrade);
+}
+
+}  // namespace
+
+void BindEstimates(py::module_& m) {
+  py::class_<Trajectory>(m,
+                         "Trajectory",
+                         "Keyframe estimates: ids (N,) int64, timestamps (N,) "
+                         "float64, poses (N, 7) float64 T_wc as [tx, ty, tz, "
+                         "qx, qy, qz, qw].")
+      .def_readonly("ids", &Trajectory::ids)
+      .def_readonly("timestamps", &Trajectory::timestamps)
+      .def_readonly("poses", &Trajectory::poses)
+      .def("__len__", [](const Trajectory& t) { return t.ids.size(); });
+
+  py::class_<MapObjectEstimate>(
+      m,
+      "MapObject",
+      "A confirmed map object: t_wo (3,), unit axes axis_w and axis_o (3,) "
+      "(zero if asymmetric), angles (K,) rad (discrete), poses (K, 7) "
+      "[tx, ty, tz, qx, qy, qz, qw] (one; one per angle; or the angle-0 "
+      "pose).")
+      .def_readonly("id", &MapObjectEstimate::id)
+      .def_readonly("class_name", &MapObjectEstimate::class_name)
+      .def_property_readonly("symmetry",
+                             [](const MapObjectEstimate& o) {
+                               return std::string(ToString(o.symmetry));
+                             })
+      .def_property_readonly(
+          "t_wo",
+          [](const MapObjectEstimate& o) { return VectorToPython(o.t_wo); })
+      .def_property_readonly(
+          "axis_w",
+          [](const MapObjectEstimate& o) { return VectorToPython(o.axis_w); })
+      .def_property_readonly(
+          "axis_o",
+          [](const MapObjectEstimate& o) { return VectorToPython(o.axis_o); })
+      .def_property_readonly(
+          "angles",
+          [](const MapObjectEstimate& o) { return DoublesToPython(o.angles); })
+      .def_property_readonly(
+          "poses",
+          [](const MapObjectEstimate& o) {
+            return PosesToPython(
+                o.poses, [](const Rigid3d& T) -> const Rigid3d& { return T; });
+          })
+      .def_readonly("observations", &MapObjectEstimate::observations)
+      .def_property_readonly("upgrade",
+                             &UpgradeToPython,
+                             "None, or {keyframe, evidence, order, angle} "
+                             "when an asymmetric object became symmetric.")
+      .def("__repr__", [](const MapObjectEstimate& o) {
+        return "MapObject(id=" + std::to_string(o.id) + ", class_name='" +
+               o.class_name + "', symmetry='" + ToString(o.symmetry) +
+               "', observations=" + std::to_string(o.observations) + ")";
+      });
+
+  py::class_<DetectionAssignment>(m,
+                                  "Assignment",
+                                  "The map object a detection went to (-1: "
+                                  "none) and the type it was categorised as.")
+      .def_readonly("keyframe", &DetectionAssignment::keyframe)
+      .def_readonly("detection", &DetectionAssignment::detection)
+      .def_readonly("object", &DetectionAssignment::object)
+      .def_property_readonly("symmetry",
+                             [](const DetectionAssignment& a) {
+                               return std::string(ToString(a.symmetry));
+                             })
+      .def("__repr__", [](const DetectionAssignment& a) {
+        return "Assignment(keyframe=" + std::to_string(a.keyframe) +
+               ", detection='" + a.detection +
+               "', object=" + std::to_string(a.object) + ", symmetry='" +
+               ToString(a.symmetry) + "')";
+      });
+
+  py::class_<SolveReport>(m, "SolveReport", "Statistics of one solve.")
+      .def_readonly("iterations", &SolveReport::iterations)
+      .def_readonly("initial_cost", &SolveReport::initial_cost)
+      .def_readonly("final_cost", &SolveReport::final_cost)
+      .def_readonly("seconds", &SolveReport::seconds)
+      .def_readonly("converged", &SolveReport::converged)
+      .def_readonly("free_keyframes", &SolveReport::free_keyframes)
+      .def_readonly("residual_blocks", &SolveReport::residual_blocks)
+      .def_readonly("parameter_blocks", &SolveReport::parameter_blocks)
+      .def_readonly("prior_size", &SolveReport::prior_size);
+
+  using S = BackendStatistics;
+  py::class_<S>(m, "BackendStatistics", "Counters over the backend's life.")
+      .def_readonly("keyframes", &S::keyframes)
+      .def_readonly("detections", &S::detections)
+      .def_readonly("objects", &S::objects)
+      .def_readonly("points", &S::points)
+      .def_readonly("object_upgrades", &S::object_upgrades)
+      .def_readonly("objects_dropped", &S::objects_dropped)
+      .def_readonly("rotation_outliers", &S::rotation_outliers)
+      .def_readonly("marginalized_keyframes", &S::marginalized_keyframes)
+      .def_readonly("ambiguous_edges_dropped", &S::ambiguous_edges_dropped)
+      .def_readonly("solves", &S::solves)
+      .def_readonly("solve_seconds", &S::solve_seconds)
+      .def_readonly("solve_iterations", &S::solve_iterations);
+}
+
+void BindBackend(py::module_& m) {
+  py::class_<Backend, std::unique_ptr<Backend>>(
+      m,
+      "Backend",
+      "The object-SLAM backend (docs/backend.md). Not thread-safe: use one "
+      "backend from one thread.")
+      .def(py::init([](const std::optional<BackendOptions>& options,
+                       const std::optional<PinholeIntrinsics>& intrinsics,
+                       const std::map<std::string, ClassPrior>& class_priors) {
+             std::unique_ptr<Backend> backend;
+             ThrowIfError(Backend::Create(options.value_or(BackendOptions()),
+                                          intrinsics,
+                                          class_priors,
+                                          &backend));
+             return backend;
+           }),
+           py::arg("options") = py::none(),
+           py::arg("intrinsics") = py::none(),
+           py::arg("class_priors") = std::map<std::string, ClassPrior>(),
+           "Raises symba.Error with BackendOptions.validate's message for "
+           "invalid options.")
+      .def(
+          "add_keyframe",
+          [](Backend& backend, const KeyframeInput& keyframe) {
+            std::vector<DetectionAssignment> assignments;
+            ThrowIfError(backend.AddKeyframe(keyframe, &assignments));
+            return assignments;
+          },
+          py::arg("keyframe"),
+          "Adds one keyframe; returns its detections' assignments in input "
+          "order. On an error (symba.Error) nothing is added.")
+      .def(
+          "optimize_window",
+          [](Backend& backend) {
+            SolveReport report;
+            ThrowIfError(backend.OptimizeWindow(&report));
+            return report;
+          },
+          "Solves the window (options.window_size keyframes).")
+      .def(
+          "optimize_batch",
+          [](Backend& backend) {
+            SolveReport report;
+            ThrowIfError(backend.OptimizeBatch(&report));
+            return report;
+          },
+          "Solves everything but the first keyframe.")
+      .def(
+          "keyframe",
+          [](const Backend& backend, KeyframeId id) -> py::object {
+            const std::optional<KeyframeEstimate> k = backend.Keyframe(id);
+            if (!k) return py::none();
+            return PoseToPython(k->T_wc);
+          },
+          py::arg("id"),
+          "The keyframe's T_wc as (7,) [tx, ty, tz, qx, qy, qz, qw], or None "
+          "for an unknown id.")
+      .def(
+          "object",
+          [](const Backend& backend, ObjectId id) {
+            return backend.Object(id);
+          },
+          py::arg("id"),
+          "A confirmed map object, or None.")
+      .def(
+          "keyframes",
+          [](const Backend& backend) {
+            return MakeTrajectory(backend.Keyframes());
+          },
+          "Every keyframe estimate as a Trajectory.")
+      .def("objects", &Backend::Objects, "Every confirmed map object.")
+      .def("assignments",
+           &Backend::Assignments,
+           "Every detection's assignment, in input order.")
+      .def("statistics", &Backend::Statistics)
+      .def_property_readonly(
+          "options",
+          [](const Backend& backend) { return backend.options(); },
+          "A copy of the options.");
+}
+
+}  // namespace symba::python

@@ -1,0 +1,382 @@
+// Logs (LogHeader, LogReader, LogWriter, read_log, write_log), replay, the
+// TUM importer and the simulator.
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bindings.h"
+#include "convert.h"
+#include "estimates.h"
+#include "symba/import/class_prior_spec.h"
+#include "symba/import/tum_import.h"
+#include "symba/io/log_file.h"
+#include "symba/io/log_format.h"
+#include "symba/replay/replay.h"
+#include "symba/simulation/simulator.h"
+
+namespace symba::python {
+namespace {
+
+// A LogReader and the end-of-file state, iterated by Python.
+struct PyLogReader {
+  std::unique_ptr<LogReader> reader;
+  bool end = false;
+};
+
+// A LogWriter that can be closed once.
+struct PyLogWriter {
+  std::unique_ptr<LogWriter> writer;
+};
+
+LogWriter& OpenWriter(PyLogWriter& w) {
+  if (!w.writer) throw StatusError("LogWriter: already closed");
+  return *w.writer;
+}
+
+void CloseWriter(PyLogWriter& w) {
+  if (!w.writer) return;
+  const Status status = w.writer->Close();
+  w.writer.reset();
+  ThrowIfError(status);
+}
+
+// ReplayResult with the trajectory as arrays.
+struct PyReplayResult {
+  LogHeader header;
+  Trajectory trajectory;
+  std::vector<MapObjectEstimate> objects;
+  std::vector<DetectionAssignment> assignments;
+  BackendStatistics statistics;
+  SolveReport last_solve;
+  double seconds = 0.0;
+};
+
+TumImportOptions MakeImportOptions(
+    const std::string& trajectory,
+    const std::vector<std::pair<std::string, std::string>>& objects,
+    int stride,
+    double odometry_sigma_t,
+    double odometry_sigma_r,
+    const std::string& first_pose,
+    std::optional<double> detection_sigma_t,
+    std::optional<double> detection_sigma_r,
+    const std::map<std::string, ClassPrior>& classes) {
+  TumImportOptions options;
+  options.trajectory = trajectory;
+  for (const auto& [class_name, path] : objects) {
+    options.objects.push_back({class_name, path});
+  }
+  options.stride = stride;
+  options.odometry_sigma_t = odometry_sigma_t;
+  options.odometry_sigma_r = odometry_sigma_r;
+  options.first_pose = first_pose;
+  options.detection_sigma_t = detection_sigma_t;
+  options.detection_sigma_r = detection_sigma_r;
+  options.classes = classes;
+  return options;
+}
+
+// The importer's keyword arguments, shared by import_tum and
+// import_tum_to_log.
+#define SYMBA_IMPORT_ARGS                                             \
+  py::arg("trajectory"), py::arg("objects"),                          \
+      py::arg("stride") = 5, py::arg("odometry_sigma_t") = 0.005,     \
+      py::arg("odometry_sigma_r") = 0.01, py::arg("first_pose") = "", \
+      py::arg("detection_sigma_t") = py::none(),                      \
+      py::arg("detection_sigma_r") = py::none(),                      \
+      py::arg("classes") = std::map<std::string, ClassPrior>()
+
+void BindLogs(py::module_& m) {
+  py::class_<LogHeader>(m,
+                        "LogHeader",
+                        "A log's header: camera intrinsics (or None) and "
+                        "class priors by class name.")
+      .def(py::init([](const std::optional<PinholeIntrinsics>& camera,
+                       const std::map<std::string, ClassPrior>& classes) {
+             LogHeader header;
+             header.camera = camera;
+             header.classes = classes;
+             return header;
+           }),
+           py::arg("camera") = py::none(),
+           py::arg("classes") = std::map<std::string, ClassPrior>())
+      .def_readonly("version", &LogHeader::version)
+      .def_readwrite("camera", &LogHeader::camera)
+      .def_readwrite("classes", &LogHeader::classes);
+
+  py::class_<PyLogReader>(m,
+                          "LogReader",
+                          "Reads a log v1 keyframe by keyframe: iterate it. "
+                          "Errors raise symba.Error with FILE:LINE: reason.")
+      .def(py::init([](const std::string& path) {
+             auto reader = std::make_unique<PyLogReader>();
+             ThrowIfError(LogReader::Open(path, &reader->reader));
+             return reader;
+           }),
+           py::arg("path"))
+      .def_property_readonly(
+          "header", [](const PyLogReader& r) { return r.reader->header(); })
+      .def_property_readonly(
+          "line",
+          [](const PyLogReader& r) { return r.reader->line(); },
+          "The 1-based line of the last keyframe returned.")
+      .def("__iter__", [](py::object self) { return self; })
+      .def("__next__",
+           [](PyLogReader& r) {
+             if (r.end) throw py::stop_iteration();
+             KeyframeInput keyframe;
+             ThrowIfError(r.reader->Next(&keyframe, &r.end));
+             if (r.end) throw py::stop_iteration();
+             return keyframe;
+           })
+      .def("__enter__", [](py::object self) { return self; })
+      .def("__exit__", [](PyLogReader&, py::args) { return false; });
+
+  py::class_<PyLogWriter>(m,
+                          "LogWriter",
+                          "Writes a log v1 keyframe by keyframe; close() (or "
+                          "leaving a with block) flushes and reports a write "
+                          "error.")
+      .def(py::init([](const std::string& path, const LogHeader& header) {
+             PyLogWriter w;
+             ThrowIfError(LogWriter::Open(path, header, &w.writer));
+             return w;
+           }),
+           py::arg("path"),
+           py::arg("header"))
+      .def(
+          "write",
+          [](PyLogWriter& w, const KeyframeInput& keyframe) {
+            ThrowIfError(OpenWriter(w).Write(keyframe));
+          },
+          py::arg("keyframe"))
+      .def("close", &CloseWriter)
+      .def("__enter__", [](py::object self) { return self; })
+      .def("__exit__", [](PyLogWriter& w, py::args) {
+        CloseWriter(w);
+        return false;
+      });
+
+  m.def(
+      "read_log",
+      [](const std::string& path) {
+        std::unique_ptr<LogReader> reader;
+        ThrowIfError(LogReader::Open(path, &reader));
+        std::vector<KeyframeInput> keyframes;
+        KeyframeInput keyframe;
+        bool end = false;
+        while (true) {
+          ThrowIfError(reader->Next(&keyframe, &end));
+          if (end) break;
+          keyframes.push_back(keyframe);
+        }
+        return std::make_pair(reader->header(), std::move(keyframes));
+      },
+      py::arg("path"),
+      "Reads a whole log: (LogHeader, list[Keyframe]).");
+
+  m.def(
+      "write_log",
+      [](const std::string& path,
+         const LogHeader& header,
+         const std::vector<KeyframeInput>& keyframes) {
+        ThrowIfError(WriteLogAtomically(path, header, keyframes));
+      },
+      py::arg("path"),
+      py::arg("header"),
+      py::arg("keyframes"),
+      "Writes a whole log atomically: on an error the file is left as it "
+      "was.");
+}
+
+void BindReplay(py::module_& m) {
+  py::class_<PyReplayResult>(m, "ReplayResult", "What replay() returns.")
+      .def_readonly("header", &PyReplayResult::header)
+      .def_readonly("trajectory", &PyReplayResult::trajectory)
+      .def_readonly("objects", &PyReplayResult::objects)
+      .def_readonly("assignments", &PyReplayResult::assignments)
+      .def_readonly("statistics", &PyReplayResult::statistics)
+      .def_readonly("last_solve", &PyReplayResult::last_solve)
+      .def_readonly("seconds", &PyReplayResult::seconds);
+
+  m.def(
+      "replay",
+      [](const std::string& log_path,
+         const std::optional<BackendOptions>& options,
+         const std::string& mode) {
+        ReplayOptions replay_options;
+        if (!ParseReplayMode(mode, &replay_options.mode)) {
+          ThrowValueError("mode",
+                          "unknown value \"" + mode +
+                              "\" (expected \"window\" or \"batch\")");
+        }
+        replay_options.backend = options.value_or(BackendOptions());
+        ReplayResult result;
+        Status status;
+        {
+          py::gil_scoped_release release;
+          status = ReplayLog(log_path, replay_options, &result);
+        }
+        ThrowIfError(status);
+        return PyReplayResult{std::move(result.header),
+                              MakeTrajectory(result.keyframes),
+                              std::move(result.objects),
+                              std::move(result.assignments),
+                              result.statistics,
+                              result.last_solve,
+                              result.seconds};
+      },
+      py::arg("log_path"),
+      py::arg("options") = py::none(),
+      py::arg("mode") = "window",
+      "Replays a log v1 as `symba replay` does (mode \"window\": optimise "
+      "the window after every keyframe; \"batch\": one solve at the end).");
+}
+
+void BindImport(py::module_& m) {
+  m.def(
+      "import_tum",
+      [](const std::string& trajectory,
+         const std::vector<std::pair<std::string, std::string>>& objects,
+         int stride,
+         double odometry_sigma_t,
+         double odometry_sigma_r,
+         const std::string& first_pose,
+         std::optional<double> detection_sigma_t,
+         std::optional<double> detection_sigma_r,
+         const std::map<std::string, ClassPrior>& classes) {
+        const TumImportOptions options = MakeImportOptions(trajectory,
+                                                           objects,
+                                                           stride,
+                                                           odometry_sigma_t,
+                                                           odometry_sigma_r,
+                                                           first_pose,
+                                                           detection_sigma_t,
+                                                           detection_sigma_r,
+                                                           classes);
+        LogHeader header;
+        std::vector<KeyframeInput> keyframes;
+        ThrowIfError(ImportTum(options, &header, &keyframes));
+        return std::make_pair(std::move(header), std::move(keyframes));
+      },
+      SYMBA_IMPORT_ARGS,
+      "Imports a TUM trajectory and per-object TUM detection files "
+      "(objects: [(class_name, path)]) as `symba import tum` does; returns "
+      "(LogHeader, list[Keyframe]).");
+
+  m.def(
+      "import_tum_to_log",
+      [](const std::string& log_path,
+         const std::string& trajectory,
+         const std::vector<std::pair<std::string, std::string>>& objects,
+         int stride,
+         double odometry_sigma_t,
+         double odometry_sigma_r,
+         const std::string& first_pose,
+         std::optional<double> detection_sigma_t,
+         std::optional<double> detection_sigma_r,
+         const std::map<std::string, ClassPrior>& classes) {
+        const TumImportOptions options = MakeImportOptions(trajectory,
+                                                           objects,
+                                                           stride,
+                                                           odometry_sigma_t,
+                                                           odometry_sigma_r,
+                                                           first_pose,
+                                                           detection_sigma_t,
+                                                           detection_sigma_r,
+                                                           classes);
+        TumImportCounts counts;
+        ThrowIfError(ImportTumToLog(options, log_path, &counts));
+        return std::make_pair(counts.keyframes, counts.detections);
+      },
+      py::arg("log_path"),
+      SYMBA_IMPORT_ARGS,
+      "import_tum, then writes the log atomically; returns (keyframes, "
+      "detections).");
+
+  m.def(
+      "parse_class_prior",
+      [](const std::string& spec) {
+        std::string name;
+        ClassPrior prior;
+        ThrowIfError(ParseClassPriorSpec(spec, &name, &prior));
+        return std::make_pair(name, prior);
+      },
+      py::arg("spec"),
+      "Parses NAME=asymmetric, NAME=discrete:ORDER[:ax,ay,az] or "
+      "NAME=continuous[:ax,ay,az]; returns (name, ClassPrior).");
+}
+
+void BindSimulation(py::module_& m) {
+  py::class_<SimulatedObject>(m, "SimulatedObject", "A true scene object.")
+      .def_readonly("class_name", &SimulatedObject::class_name)
+      .def_property_readonly("symmetry",
+                             [](const SimulatedObject& o) {
+                               return std::string(ToString(o.symmetry));
+                             })
+      .def_readonly("order", &SimulatedObject::order)
+      .def_property_readonly(
+          "axis_o",
+          [](const SimulatedObject& o) { return VectorToPython(o.axis_o); })
+      .def_property_readonly("T_wo", [](const SimulatedObject& o) {
+        return PoseToPython(o.T_wo);
+      });
+
+  py::class_<SimulatedSequence>(m,
+                                "Simulation",
+                                "A simulated sequence: the log's header and "
+                                "keyframes and the ground truth.")
+      .def_readonly("scene", &SimulatedSequence::scene)
+      .def_readonly("seed", &SimulatedSequence::seed)
+      .def_readonly("header", &SimulatedSequence::header)
+      .def_readonly("keyframes", &SimulatedSequence::keyframes)
+      .def_readonly("objects", &SimulatedSequence::objects)
+      .def_property_readonly(
+          "true_poses",
+          [](const SimulatedSequence& s) {
+            return PosesToPython(
+                s.T_wc_true,
+                [](const Rigid3d& T) -> const Rigid3d& { return T; });
+          },
+          "True T_wc per keyframe, (N, 7) [tx, ty, tz, qx, qy, qz, qw].");
+
+  m.def("scene_names", &SceneNames, "The scenes simulate() knows.");
+  m.def(
+      "simulate",
+      [](const std::string& scene_name,
+         std::uint32_t seed,
+         std::optional<int> num_keyframes) {
+        SimulationOptions options;
+        Scene scene;
+        ThrowIfError(MakeScene(scene_name, &scene));
+        options.num_keyframes =
+            num_keyframes.value_or(scene.default_num_keyframes);
+        SimulatedSequence sequence;
+        Status status;
+        {
+          py::gil_scoped_release release;
+          status = Simulate(scene_name, options, seed, &sequence);
+        }
+        ThrowIfError(status);
+        return sequence;
+      },
+      py::arg("scene"),
+      py::arg("seed") = 1,
+      py::arg("num_keyframes") = py::none(),
+      "Simulates a scene as `symba simulate` does with default options "
+      "(num_keyframes: the scene's default when None).");
+}
+
+}  // namespace
+
+void BindIo(py::module_& m) {
+  BindLogs(m);
+  BindReplay(m);
+  BindImport(m);
+  BindSimulation(m);
+}
+
+}  // namespace symba::python

@@ -1,0 +1,134 @@
+"""The same sequence gives the same result through Python as through C++."""
+
+import json
+
+import numpy as np
+
+import symba
+
+
+def read_tum(path):
+    rows = np.loadtxt(path, ndmin=2)
+    return rows[:, 0], rows[:, 1:]  # timestamps, [tx ty tz qx qy qz qw]
+
+
+def read_associations(path):
+    lines = path.read_text().splitlines()
+    assert lines[0] == "keyframe,detection,object,symmetry"
+    return [tuple(line.split(",")) for line in lines[1:]]
+
+
+def test_replay_matches_the_cli(simulated_log, cli, tmp_path):
+    out = tmp_path / "out"
+    cli("replay", simulated_log, "--out", out, "--quiet")
+    times, poses = read_tum(out / "trajectory.tum")
+
+    result = symba.replay(str(simulated_log))
+
+    assert len(result.trajectory) == 24
+    np.testing.assert_allclose(result.trajectory.timestamps, times,
+                               rtol=0, atol=1e-9)
+    np.testing.assert_allclose(result.trajectory.poses, poses,
+                               rtol=0, atol=1e-9)
+    objects = json.loads((out / "objects.json").read_text())["objects"]
+    assert len(objects) == len(result.objects) > 0
+    for expected, got in zip(objects, result.objects):
+        assert got.id == expected["id"]
+        assert got.class_name == expected["class"]
+        assert got.symmetry == expected["symmetry"]
+        assert got.observations == expected["observations"]
+        np.testing.assert_allclose(got.t_wo, expected["t"], rtol=0, atol=1e-9)
+        expected_poses = [p["t"] + p["q"] for p in expected["poses"]]
+        np.testing.assert_allclose(got.poses, expected_poses, rtol=0,
+                                   atol=1e-9)
+    expected_rows = read_associations(out / "associations.csv")
+    got_rows = [(str(a.keyframe), a.detection, str(a.object), a.symmetry)
+                for a in result.assignments]
+    assert got_rows == expected_rows
+
+
+def test_backend_keyframe_by_keyframe_matches_replay(simulated_log):
+    header, keyframes = symba.read_log(str(simulated_log))
+    backend = symba.Backend(intrinsics=header.camera,
+                            class_priors=header.classes)
+    for keyframe in keyframes:
+        assignments = backend.add_keyframe(keyframe)
+        assert [a.detection for a in assignments] == [
+            d.id for d in keyframe.detections]
+        backend.optimize_window()
+
+    result = symba.replay(str(simulated_log))
+    trajectory = backend.keyframes()
+    np.testing.assert_array_equal(trajectory.ids, result.trajectory.ids)
+    np.testing.assert_array_equal(trajectory.poses, result.trajectory.poses)
+    assert [o.id for o in backend.objects()] == [
+        o.id for o in result.objects]
+    np.testing.assert_array_equal(backend.keyframe(keyframes[-1].id),
+                                  trajectory.poses[-1])
+    assert backend.keyframe(10**9) is None
+    stats = backend.statistics()
+    assert stats.keyframes == 24
+    assert stats.solves == 24
+
+
+def test_batch_replay_matches_the_cli(simulated_log, cli, tmp_path):
+    out = tmp_path / "out"
+    cli("replay", simulated_log, "--out", out, "--quiet", "--mode", "batch",
+        "--method", "mh")
+    _, poses = read_tum(out / "trajectory.tum")
+    result = symba.replay(str(simulated_log),
+                          symba.BackendOptions(method="mh"), mode="batch")
+    np.testing.assert_allclose(result.trajectory.poses, poses, rtol=0,
+                               atol=1e-9)
+
+
+def test_simulate_matches_the_cli(cli, tmp_path):
+    cli("simulate", "--scene", "cts", "--seed", "5", "--keyframes", "6",
+        "--out", tmp_path / "cli", "--quiet")
+    simulation = symba.simulate("cts", seed=5, num_keyframes=6)
+    # The command converts its angle options from degrees, so its options
+    # can differ from the library's defaults in the last bit: compare to
+    # 1e-9, not byte for byte.
+    _, expected = symba.read_log(str(tmp_path / "cli" / "log.jsonl"))
+    assert [k.id for k in simulation.keyframes] == [k.id for k in expected]
+    for got, want in zip(simulation.keyframes, expected):
+        np.testing.assert_allclose(got.T_wc, want.T_wc, rtol=0, atol=1e-9)
+        assert [d.id for d in got.detections] == [d.id for d in want.detections]
+        for d_got, d_want in zip(got.detections, want.detections):
+            np.testing.assert_allclose(d_got.hypotheses, d_want.hypotheses,
+                                       rtol=0, atol=1e-9)
+        np.testing.assert_array_equal(got.point_ids, want.point_ids)
+        np.testing.assert_allclose(got.point_uv, want.point_uv, rtol=0,
+                                   atol=1e-9)
+    _, true_poses = read_tum(tmp_path / "cli" / "gt_trajectory.tum")
+    np.testing.assert_allclose(simulation.true_poses, true_poses, rtol=0,
+                               atol=1e-9)
+    assert len(simulation.objects) > 0
+
+
+def test_import_tum_matches_the_cli(source_dir, cli, tmp_path):
+    seq = source_dir / "data" / "real" / "ycbv" / "0001"
+    objects = [("003_cracker_box", seq / "dope_003_cracker_box_T_co.txt"),
+               ("004_sugar_box", seq / "dope_004_sugar_box_T_co.txt")]
+    cli("import", "tum", "--trajectory", seq / "orbslam3_T_wc.txt",
+        "--object", f"{objects[0][0]}={objects[0][1]}",
+        "--object", f"{objects[1][0]}={objects[1][1]}",
+        "--first-pose", seq / "gt_T_wc.txt", "--out", tmp_path / "cli.jsonl")
+    counts = symba.import_tum_to_log(
+        str(tmp_path / "py.jsonl"), str(seq / "orbslam3_T_wc.txt"),
+        [(name, str(path)) for name, path in objects],
+        first_pose=str(seq / "gt_T_wc.txt"))
+    # ceil(1111 / 5) keyframes, as in the CLI test (tests/CMakeLists.txt).
+    assert counts == (223, 255)
+    assert ((tmp_path / "py.jsonl").read_bytes() ==
+            (tmp_path / "cli.jsonl").read_bytes())
+
+    header, keyframes = symba.import_tum(
+        str(seq / "orbslam3_T_wc.txt"),
+        [(name, str(path)) for name, path in objects],
+        first_pose=str(seq / "gt_T_wc.txt"))
+    assert len(keyframes) == 223
+    assert header.camera is None
+    assert keyframes[0].T_wc is not None and keyframes[1].T_wc is None
+    assert keyframes[1].odometry.sigma_t == 0.005
+    assert keyframes[1].odometry.sigma_r == 0.01

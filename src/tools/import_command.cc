@@ -3,6 +3,7 @@
 // (docs/import.md).
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,27 +16,52 @@
 
 namespace {
 
+// "symba import FORMAT: MESSAGE" on stderr; the exit status 1.
+int Fail(const char* format, const std::string& message) {
+  std::fprintf(stderr, "symba import %s: %s\n", format, message.c_str());
+  return 1;
+}
+
+// --detection-sigma-t/-r, shared by every importer: written on every
+// detection when given.
+struct DetectionSigmaFlags {
+  double t = 0.0;  // 0: not given
+  double r = 0.0;
+
+  void Register(CLI::App* cmd) {
+    cmd->add_option("--detection-sigma-t",
+                    t,
+                    "detection translation noise (m), written on every "
+                    "detection (default: none, the backend's)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--detection-sigma-r",
+                    r,
+                    "detection rotation noise (rad), written on every "
+                    "detection (default: none, the backend's)")
+        ->check(CLI::PositiveNumber);
+  }
+  void Apply(std::optional<double>* sigma_t,
+             std::optional<double>* sigma_r) const {
+    if (t > 0.0) *sigma_t = t;
+    if (r > 0.0) *sigma_r = r;
+  }
+};
+
 struct ImportTumFlags {
   std::string out;
   std::vector<std::string> objects;       // NAME=FILE
   std::vector<std::string> class_priors;  // NAME=SPEC
-  double detection_sigma_t = 0.0;         // 0: not given
-  double detection_sigma_r = 0.0;
+  DetectionSigmaFlags sigma;
   bool quiet = false;
   symba::TumImportOptions options;
 };
-
-int Fail(const std::string& message) {
-  std::fprintf(stderr, "symba import tum: %s\n", message.c_str());
-  return 1;
-}
 
 int RunImportTum(ImportTumFlags f) {
   for (const std::string& object : f.objects) {
     const std::size_t equals = object.find('=');
     if (equals == std::string::npos || equals == 0 ||
         equals + 1 == object.size()) {
-      return Fail("--object \"" + object + "\": expected NAME=FILE");
+      return Fail("tum", "--object \"" + object + "\": expected NAME=FILE");
     }
     f.options.objects.push_back(
         {object.substr(0, equals), object.substr(equals + 1)});
@@ -45,18 +71,13 @@ int RunImportTum(ImportTumFlags f) {
     symba::ClassPrior prior;
     const symba::Status status =
         symba::ParseClassPriorSpec(spec, &name, &prior);
-    if (!status.ok()) return Fail(status.message());
+    if (!status.ok()) return Fail("tum", status.message());
     f.options.classes[name] = prior;
   }
-  if (f.detection_sigma_t > 0.0) {
-    f.options.detection_sigma_t = f.detection_sigma_t;
-  }
-  if (f.detection_sigma_r > 0.0) {
-    f.options.detection_sigma_r = f.detection_sigma_r;
-  }
+  f.sigma.Apply(&f.options.detection_sigma_t, &f.options.detection_sigma_r);
   symba::TumImportCounts counts;
   const symba::Status status = symba::ImportTumToLog(f.options, f.out, &counts);
-  if (!status.ok()) return Fail(status.message());
+  if (!status.ok()) return Fail("tum", status.message());
   if (!f.quiet) {
     std::fprintf(stderr,
                  "symba import tum: wrote %s: %d keyframes, %d detections\n",
@@ -72,34 +93,23 @@ struct ImportBopFlags {
   std::string class_names;  // obj_id=name,...
   int scene = -1;           // -1: not given
   double gate = 0.0;        // 0: not given
-  double detection_sigma_t = 0.0;
-  double detection_sigma_r = 0.0;
+  DetectionSigmaFlags sigma;
   bool quiet = false;
   symba::BopImportOptions options;
 };
-
-int FailBop(const std::string& message) {
-  std::fprintf(stderr, "symba import bop: %s\n", message.c_str());
-  return 1;
-}
 
 int RunImportBop(ImportBopFlags f) {
   if (!f.class_names.empty()) {
     const symba::Status status =
         symba::ParseBopClassNames(f.class_names, &f.options.class_names);
-    if (!status.ok()) return FailBop(status.message());
+    if (!status.ok()) return Fail("bop", status.message());
   }
   if (f.scene >= 0) f.options.scene = f.scene;
   if (f.gate > 0.0) f.options.gate = f.gate;
-  if (f.detection_sigma_t > 0.0) {
-    f.options.detection_sigma_t = f.detection_sigma_t;
-  }
-  if (f.detection_sigma_r > 0.0) {
-    f.options.detection_sigma_r = f.detection_sigma_r;
-  }
+  f.sigma.Apply(&f.options.detection_sigma_t, &f.options.detection_sigma_r);
   symba::BopImportReport report;
   const symba::Status status = symba::ImportBopToLog(f.options, f.out, &report);
-  if (!status.ok()) return FailBop(status.message());
+  if (!status.ok()) return Fail("bop", status.message());
   if (!f.quiet) {
     for (const std::string& note : report.symmetry_notes) {
       std::fprintf(stderr, "symba import bop: %s\n", note.c_str());
@@ -167,16 +177,7 @@ void RegisterImportBop(CLI::App* import, int* exit_code) {
                   "are one detection (default: half the diameter from "
                   "models_info, else 0.05)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--detection-sigma-t",
-                  f->detection_sigma_t,
-                  "detection translation noise (m), written on every "
-                  "detection (default: none, the backend's)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--detection-sigma-r",
-                  f->detection_sigma_r,
-                  "detection rotation noise (rad), written on every "
-                  "detection (default: none, the backend's)")
-      ->check(CLI::PositiveNumber);
+  f->sigma.Register(cmd);
   cmd->add_option("--out", f->out, "the log to write (replaced atomically)")
       ->required();
   cmd->add_flag("--quiet", f->quiet, "no summary on stderr");
@@ -226,16 +227,7 @@ void RegisterImportCommand(CLI::App* app, int* exit_code) {
                   "a TUM trajectory (e.g. ground truth) whose pose at the "
                   "first frame's time is the first keyframe's T_wc "
                   "(default: the front end's first pose)");
-  cmd->add_option("--detection-sigma-t",
-                  f->detection_sigma_t,
-                  "detection translation noise (m), written on every "
-                  "detection (default: none, the backend's)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--detection-sigma-r",
-                  f->detection_sigma_r,
-                  "detection rotation noise (rad), written on every "
-                  "detection (default: none, the backend's)")
-      ->check(CLI::PositiveNumber);
+  f->sigma.Register(cmd);
   cmd->add_option("--class-prior",
                   f->class_priors,
                   "NAME=asymmetric | NAME=discrete:ORDER[:ax,ay,az] | "

@@ -194,11 +194,24 @@ void SetDetections(KeyframeInput& keyframe,
     throw py::value_error(
         "hypotheses, counts: give both (with class_names) or neither");
   }
+  // A C-contiguous (H, 7) array (the usual case) is read in place;
+  // anything else (strided views, (H, 4, 4)) through PosesFromPython.
+  const double* rows = nullptr;
   std::vector<Rigid3d> poses;
+  py::ssize_t h = 0;
   py::ssize_t d = 0;
   std::optional<py::array> counts;
   if (!hypotheses_value.is_none()) {
-    poses = PosesFromPython(hypotheses_value, "hypotheses");
+    const py::array array = Float64Array(hypotheses_value, "hypotheses");
+    if (array.ndim() == 2 && array.shape(1) == 7 &&
+        (array.flags() & py::array::c_style)) {
+      CheckFinite(array, "hypotheses");
+      rows = static_cast<const double*>(array.data());
+      h = array.shape(0);
+    } else {
+      poses = PosesFromPython(array, "hypotheses");
+      h = static_cast<py::ssize_t>(poses.size());
+    }
     counts = Int64Array(counts_value, "counts");
     if (counts->ndim() != 1) {
       ThrowValueError("counts",
@@ -216,15 +229,15 @@ void SetDetections(KeyframeInput& keyframe,
       }
       total += c(i);
     }
-    if (total != static_cast<std::int64_t>(poses.size())) {
+    if (total != h) {
       ThrowValueError("counts",
                       "the counts add up to " + std::to_string(total) +
-                          ", but hypotheses has " +
-                          std::to_string(poses.size()) + " rows");
+                          ", but hypotheses has " + std::to_string(h) +
+                          " rows");
     }
   }
   const std::vector<double> weights =
-      WeightsFromPython(weights_value, poses.size(), "weights");
+      WeightsFromPython(weights_value, static_cast<size_t>(h), "weights");
   keyframe.detections.resize(d);
   SetStrings(class_names,
              keyframe.detections,
@@ -249,8 +262,16 @@ void SetDetections(KeyframeInput& keyframe,
         static_cast<size_t>(counts->unchecked<std::int64_t, 1>()(i));
     detection.hypotheses.resize(n);
     for (size_t j = 0; j < n; ++j, ++next) {
-      detection.hypotheses[j].T_co = poses[next];
-      detection.hypotheses[j].weight = weights[next];
+      PoseHypothesis& hypothesis = detection.hypotheses[j];
+      if (rows != nullptr) {
+        // [tx, ty, tz, qx, qy, qz, qw]; Eigen's constructor takes w first.
+        const double* r = rows + 7 * next;
+        hypothesis.T_co.t = Eigen::Vector3d(r[0], r[1], r[2]);
+        hypothesis.T_co.q = Eigen::Quaterniond(r[6], r[3], r[4], r[5]);
+      } else {
+        hypothesis.T_co = poses[next];
+      }
+      hypothesis.weight = weights[next];
     }
     if (scores) detection.score = scores->unchecked<double, 1>()(i);
     if (sigma_t) {

@@ -4,11 +4,14 @@
 //   symba-python-overhead-bench --write-log PATH
 //       writes the backend benchmark's keyframes (backend_bench_sequence.h)
 //       as a log v1, so that Python replays exactly the same input;
-//   symba-python-overhead-bench --time LOG [--repetitions R]
+//   symba-python-overhead-bench --time LOG [--repetitions R] [--copy]
 //       per repetition: a fresh Backend (default options, the log's
 //       camera), every keyframe AddKeyframe + OptimizeWindow; prints one
 //       line per repetition with the wall and thread-CPU seconds spent in
 //       AddKeyframe over the timed keyframes (after the warm-up ones).
+//       --copy times a copy of the KeyframeInput plus AddKeyframe on the
+//       copy: what a C++ front end that builds each keyframe pays at least,
+//       the C++ counterpart of Python's building the keyframe from arrays.
 #include <time.h>
 
 #include <chrono>
@@ -50,7 +53,7 @@ int WriteLog(const std::string& path) {
   return status.ok() ? 0 : Fail(status.message());
 }
 
-int Time(const std::string& path, int repetitions) {
+int Time(const std::string& path, int repetitions, bool copy) {
   std::unique_ptr<symba::LogReader> reader;
   symba::Status status = symba::LogReader::Open(path, &reader);
   std::vector<symba::KeyframeInput> keyframes;
@@ -73,7 +76,12 @@ int Time(const std::string& path, int repetitions) {
       std::vector<symba::DetectionAssignment> assignments;
       const auto wall_start = std::chrono::steady_clock::now();
       const double cpu_start = ThreadCpuSeconds();
-      status = backend->AddKeyframe(keyframes[k], &assignments);
+      if (copy) {
+        const symba::KeyframeInput built = keyframes[k];
+        status = backend->AddKeyframe(built, &assignments);
+      } else {
+        status = backend->AddKeyframe(keyframes[k], &assignments);
+      }
       const double cpu_end = ThreadCpuSeconds();
       const auto wall_end = std::chrono::steady_clock::now();
       if (status.ok()) status = backend->OptimizeWindow();
@@ -98,16 +106,22 @@ int Time(const std::string& path, int repetitions) {
 int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (args.size() == 2 && args[0] == "--write-log") return WriteLog(args[1]);
-  if ((args.size() == 2 || args.size() == 4) && args[0] == "--time") {
+  if (args.size() >= 2 && args[0] == "--time") {
     int repetitions = 1;
-    if (args.size() == 4) {
-      if (args[2] != "--repetitions") return Fail("unknown option " + args[2]);
-      repetitions = std::atoi(args[3].c_str());
-      if (repetitions < 1) return Fail("--repetitions must be >= 1");
+    bool copy = false;
+    for (size_t i = 2; i < args.size(); ++i) {
+      if (args[i] == "--copy") {
+        copy = true;
+      } else if (args[i] == "--repetitions" && i + 1 < args.size()) {
+        repetitions = std::atoi(args[++i].c_str());
+        if (repetitions < 1) return Fail("--repetitions must be >= 1");
+      } else {
+        return Fail("unknown option " + args[i]);
+      }
     }
-    return Time(args[1], repetitions);
+    return Time(args[1], repetitions, copy);
   }
   return Fail(
       "usage: symba-python-overhead-bench --write-log PATH | --time LOG "
-      "[--repetitions R]");
+      "[--repetitions R] [--copy]");
 }

@@ -1,6 +1,7 @@
 // What a front end hands the backend: Keyframe (KeyframeInput), Detection
 // (DetectionInput) and Odometry, built from NumPy arrays once and then
-// passed to Backend.add_keyframe or LogWriter.write without conversion.
+// passed to Backend.add_keyframe or LogWriter.write without conversion;
+// and KeyframeFromArrays (keyframe_arrays.h), a whole keyframe in one call.
 #include <cmath>
 #include <optional>
 #include <string>
@@ -9,6 +10,7 @@
 
 #include "bindings.h"
 #include "convert.h"
+#include "keyframe_arrays.h"
 #include "symba/backend/keyframe_input.h"
 
 namespace symba::python {
@@ -110,6 +112,179 @@ void SetPoints(KeyframeInput& keyframe,
   }
 }
 
+// One value per detection: a (D,) float64 array, or nullopt for None.
+std::optional<py::array> PerDetection(const py::object& value,
+                                      py::ssize_t count,
+                                      const char* name,
+                                      const char* what) {
+  if (value.is_none()) return std::nullopt;
+  py::array array = Float64Array(value, name);
+  if (array.ndim() != 1 || array.shape(0) != count) {
+    ThrowValueError(name,
+                    "expected shape (" + std::to_string(count) + ",), one " +
+                        what + " per detection, got shape " +
+                        ShapeString(array));
+  }
+  CheckFinite(array, name);
+  return array;
+}
+
+// Sets `field` of every detection from a list (or tuple) of str, one per
+// detection; None leaves them empty unless `required`.
+void SetStrings(const py::object& value,
+                std::vector<DetectionInput>& detections,
+                std::string DetectionInput::*field,
+                const char* name,
+                bool required) {
+  const std::string count = std::to_string(detections.size());
+  if (value.is_none()) {
+    if (!required || detections.empty()) return;
+    ThrowValueError(
+        name,
+        "expected a list of " + count + " str, one per detection, got None");
+  }
+  if (PyUnicode_Check(value.ptr()) || PyBytes_Check(value.ptr())) {
+    ThrowValueError(name,
+                    "expected a list of " + count +
+                        " str, one per detection, got a single " +
+                        Py_TYPE(value.ptr())->tp_name);
+  }
+  const py::object items =
+      py::reinterpret_steal<py::object>(PySequence_Fast(value.ptr(), ""));
+  if (!items) {
+    PyErr_Clear();
+    ThrowValueError(name,
+                    "expected a list of " + count +
+                        " str, one per detection, got " +
+                        Py_TYPE(value.ptr())->tp_name);
+  }
+  const py::ssize_t n = PySequence_Fast_GET_SIZE(items.ptr());
+  if (static_cast<size_t>(n) != detections.size()) {
+    ThrowValueError(name,
+                    "expected " + count + " str, one per detection, got " +
+                        std::to_string(n));
+  }
+  PyObject** item = PySequence_Fast_ITEMS(items.ptr());
+  for (py::ssize_t i = 0; i < n; ++i) {
+    if (!PyUnicode_Check(item[i])) {
+      ThrowValueError(
+          std::string(name) + "[" + std::to_string(i) + "]",
+          std::string("expected a str, got ") + Py_TYPE(item[i])->tp_name);
+    }
+    Py_ssize_t size = 0;
+    const char* text = PyUnicode_AsUTF8AndSize(item[i], &size);
+    if (text == nullptr) throw py::error_already_set();
+    (detections[i].*field).assign(text, static_cast<size_t>(size));
+  }
+}
+
+// The detections from the stacked hypotheses (H, 7) or (H, 4, 4), the
+// hypothesis count of each detection (D,) and the per-detection values.
+void SetDetections(KeyframeInput& keyframe,
+                   const py::object& hypotheses_value,
+                   const py::object& counts_value,
+                   const py::object& weights_value,
+                   const py::object& class_names,
+                   const py::object& detection_ids,
+                   const py::object& scores_value,
+                   const py::object& sigma_t_value,
+                   const py::object& sigma_r_value) {
+  keyframe.detections.clear();
+  if (hypotheses_value.is_none() != counts_value.is_none()) {
+    throw py::value_error(
+        "hypotheses, counts: give both (with class_names) or neither");
+  }
+  // A C-contiguous (H, 7) array (the usual case) is read in place;
+  // anything else (strided views, (H, 4, 4)) through PosesFromPython.
+  const double* rows = nullptr;
+  std::vector<Rigid3d> poses;
+  py::ssize_t h = 0;
+  py::ssize_t d = 0;
+  std::optional<py::array> counts;
+  if (!hypotheses_value.is_none()) {
+    const py::array array = Float64Array(hypotheses_value, "hypotheses");
+    if (array.ndim() == 2 && array.shape(1) == 7 &&
+        (array.flags() & py::array::c_style)) {
+      CheckFinite(array, "hypotheses");
+      rows = static_cast<const double*>(array.data());
+      h = array.shape(0);
+    } else {
+      poses = PosesFromPython(array, "hypotheses");
+      h = static_cast<py::ssize_t>(poses.size());
+    }
+    counts = Int64Array(counts_value, "counts");
+    if (counts->ndim() != 1) {
+      ThrowValueError("counts",
+                      "expected shape (D,), one hypothesis count per "
+                      "detection, got shape " +
+                          ShapeString(*counts));
+    }
+    d = counts->shape(0);
+    const auto c = counts->unchecked<std::int64_t, 1>();
+    std::int64_t total = 0;
+    for (py::ssize_t i = 0; i < d; ++i) {
+      if (c(i) < 0) {
+        ThrowValueError("counts[" + std::to_string(i) + "]",
+                        "expected a count >= 0, got " + std::to_string(c(i)));
+      }
+      total += c(i);
+    }
+    if (total != h) {
+      ThrowValueError("counts",
+                      "the counts add up to " + std::to_string(total) +
+                          ", but hypotheses has " + std::to_string(h) +
+                          " rows");
+    }
+  }
+  const std::vector<double> weights =
+      WeightsFromPython(weights_value, static_cast<size_t>(h), "weights");
+  keyframe.detections.resize(d);
+  SetStrings(class_names,
+             keyframe.detections,
+             &DetectionInput::class_name,
+             "class_names",
+             true);
+  SetStrings(detection_ids,
+             keyframe.detections,
+             &DetectionInput::id,
+             "detection_ids",
+             false);
+  const std::optional<py::array> scores =
+      PerDetection(scores_value, d, "scores", "score");
+  const std::optional<py::array> sigma_t =
+      PerDetection(sigma_t_value, d, "detection_sigma_t", "sigma (0: none)");
+  const std::optional<py::array> sigma_r =
+      PerDetection(sigma_r_value, d, "detection_sigma_r", "sigma (0: none)");
+  size_t next = 0;
+  for (py::ssize_t i = 0; i < d; ++i) {
+    DetectionInput& detection = keyframe.detections[i];
+    const size_t n =
+        static_cast<size_t>(counts->unchecked<std::int64_t, 1>()(i));
+    detection.hypotheses.resize(n);
+    for (size_t j = 0; j < n; ++j, ++next) {
+      PoseHypothesis& hypothesis = detection.hypotheses[j];
+      if (rows != nullptr) {
+        // [tx, ty, tz, qx, qy, qz, qw]; Eigen's constructor takes w first.
+        const double* r = rows + 7 * next;
+        hypothesis.T_co.t = Eigen::Vector3d(r[0], r[1], r[2]);
+        hypothesis.T_co.q = Eigen::Quaterniond(r[6], r[3], r[4], r[5]);
+      } else {
+        hypothesis.T_co = poses[next];
+      }
+      hypothesis.weight = weights[next];
+    }
+    if (scores) detection.score = scores->unchecked<double, 1>()(i);
+    if (sigma_t) {
+      const double s = sigma_t->unchecked<double, 1>()(i);
+      if (s != 0.0) detection.sigma_t = s;
+    }
+    if (sigma_r) {
+      const double s = sigma_r->unchecked<double, 1>()(i);
+      if (s != 0.0) detection.sigma_r = s;
+    }
+  }
+}
+
 void BindOdometry(py::module_& m) {
   py::class_<Odometry>(m,
                        "Odometry",
@@ -201,13 +376,14 @@ void BindDetection(py::module_& m) {
 }
 
 void BindKeyframe(py::module_& m) {
-  py::class_<KeyframeInput>(
+  py::class_<KeyframeInput> keyframe_class(
       m,
       "Keyframe",
       "One keyframe as a front end hands it over (a log line): id, "
       "timestamp, T_wc and/or odometry, detections, point observations "
       "(ids (M,) int64, uv (M, 2) float64 pixels, depth (M,) float64 metres, "
-      "0 meaning no depth).")
+      "0 meaning no depth).");
+  keyframe_class
       .def(py::init([](std::int64_t id,
                        double timestamp,
                        const py::object& T_wc,
@@ -294,9 +470,78 @@ void BindKeyframe(py::module_& m) {
                std::to_string(k.detections.size()) + " detections, " +
                std::to_string(k.points.size()) + " points)";
       });
+  WithKeyframeArrayArgs([&](auto... args) {
+    keyframe_class.def_static(
+        "from_arrays",
+        &KeyframeFromArrays,
+        args...,
+        "The whole keyframe in one call: hypotheses (H, 7) or (H, 4, 4) "
+        "stacked over the detections, counts (D,) int64 hypotheses per "
+        "detection, weights (H,) (default 1), class_names and "
+        "detection_ids lists of D str, scores, detection_sigma_t and "
+        "detection_sigma_r (D,) (0: the options' default); odometry an "
+        "Odometry or a T_prev_cur pose with odometry_sigma_t/_r.");
+  });
 }
 
 }  // namespace
+
+KeyframeInput KeyframeFromArrays(std::int64_t id,
+                                 double timestamp,
+                                 const py::object& T_wc,
+                                 const py::object& odometry,
+                                 std::optional<double> odometry_sigma_t,
+                                 std::optional<double> odometry_sigma_r,
+                                 const py::object& hypotheses,
+                                 const py::object& counts,
+                                 const py::object& weights,
+                                 const py::object& class_names,
+                                 const py::object& detection_ids,
+                                 const py::object& scores,
+                                 const py::object& detection_sigma_t,
+                                 const py::object& detection_sigma_r,
+                                 const py::object& point_ids,
+                                 const py::object& point_uv,
+                                 const py::object& point_depth) {
+  KeyframeInput keyframe;
+  keyframe.id = id;
+  keyframe.timestamp = *OptionalFinite(timestamp, "timestamp");
+  if (!T_wc.is_none()) keyframe.T_wc = PoseFromPython(T_wc, "T_wc");
+  if (!odometry.is_none()) {
+    if (py::isinstance<Odometry>(odometry)) {
+      if (odometry_sigma_t || odometry_sigma_r) {
+        throw py::value_error(
+            "odometry_sigma_t, odometry_sigma_r: give them only with an "
+            "odometry array (an Odometry has its own sigmas)");
+      }
+      keyframe.odometry = odometry.cast<Odometry>();
+    } else {
+      Odometry o;
+      o.T_prev_cur = PoseFromPython(odometry, "odometry");
+      if (odometry_sigma_t) {
+        o.sigma_t = *OptionalFinite(odometry_sigma_t, "odometry_sigma_t");
+      }
+      if (odometry_sigma_r) {
+        o.sigma_r = *OptionalFinite(odometry_sigma_r, "odometry_sigma_r");
+      }
+      keyframe.odometry = o;
+    }
+  } else if (odometry_sigma_t || odometry_sigma_r) {
+    throw py::value_error(
+        "odometry_sigma_t, odometry_sigma_r: given without odometry");
+  }
+  SetDetections(keyframe,
+                hypotheses,
+                counts,
+                weights,
+                class_names,
+                detection_ids,
+                scores,
+                detection_sigma_t,
+                detection_sigma_r);
+  SetPoints(keyframe, point_ids, point_uv, point_depth);
+  return keyframe;
+}
 
 void BindInputs(py::module_& m) {
   BindOdometry(m);

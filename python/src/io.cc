@@ -206,8 +206,10 @@ void BindReplay(py::module_& m) {
       "replay",
       [](const std::string& log_path,
          const std::optional<BackendOptions>& options,
-         const std::string& mode) {
+         const std::string& mode,
+         bool final_batch) {
         ReplayOptions replay_options;
+        replay_options.final_batch = final_batch;
         if (!ParseReplayMode(mode, &replay_options.mode)) {
           ThrowValueError("mode",
                           "unknown value \"" + mode +
@@ -232,8 +234,11 @@ void BindReplay(py::module_& m) {
       py::arg("log_path"),
       py::arg("options") = py::none(),
       py::arg("mode") = "window",
+      py::arg("final_batch") = false,
       "Replays a log v1 as `symba replay` does (mode \"window\": optimise "
-      "the window after every keyframe; \"batch\": one solve at the end).");
+      "the window after every keyframe; \"batch\": one solve at the end; "
+      "final_batch: in window mode, one batch solve after the last keyframe "
+      "as well, like `symba replay --final-batch`).");
 }
 
 void BindImport(py::module_& m) {

@@ -151,6 +151,23 @@ class Keyframe:
                  point_depth: Optional[ArrayLike] = None) -> None: ...
     def set_points(self, point_ids: ArrayLike, point_uv: ArrayLike,
                    point_depth: Optional[ArrayLike] = None) -> None: ...
+    @staticmethod
+    def from_arrays(id: int, timestamp: float, *,
+                    T_wc: Optional[ArrayLike] = None,
+                    odometry: Union[Odometry, ArrayLike, None] = None,
+                    odometry_sigma_t: Optional[float] = None,
+                    odometry_sigma_r: Optional[float] = None,
+                    hypotheses: Optional[ArrayLike] = None,  # (H, 7)
+                    counts: Optional[ArrayLike] = None,  # (D,) int64
+                    weights: Optional[ArrayLike] = None,  # (H,)
+                    class_names: Optional[Sequence[str]] = None,  # D
+                    detection_ids: Optional[Sequence[str]] = None,  # D
+                    scores: Optional[ArrayLike] = None,  # (D,)
+                    detection_sigma_t: Optional[ArrayLike] = None,  # (D,)
+                    detection_sigma_r: Optional[ArrayLike] = None,  # (D,)
+                    point_ids: Optional[ArrayLike] = None,
+                    point_uv: Optional[ArrayLike] = None,
+                    point_depth: Optional[ArrayLike] = None) -> Keyframe: ...
 
 class Trajectory:
     @property
@@ -244,6 +261,24 @@ class Backend:
                  intrinsics: Optional[PinholeIntrinsics] = None,
                  class_priors: dict[str, ClassPrior] = ...) -> None: ...
     def add_keyframe(self, keyframe: Keyframe) -> list[Assignment]: ...
+    def add_keyframe_arrays(
+            self, id: int, timestamp: float, *,
+            T_wc: Optional[ArrayLike] = None,
+            odometry: Union[Odometry, ArrayLike, None] = None,
+            odometry_sigma_t: Optional[float] = None,
+            odometry_sigma_r: Optional[float] = None,
+            hypotheses: Optional[ArrayLike] = None,  # (H, 7) or (H, 4, 4)
+            counts: Optional[ArrayLike] = None,  # (D,) int64
+            weights: Optional[ArrayLike] = None,  # (H,)
+            class_names: Optional[Sequence[str]] = None,  # D
+            detection_ids: Optional[Sequence[str]] = None,  # D
+            scores: Optional[ArrayLike] = None,  # (D,)
+            detection_sigma_t: Optional[ArrayLike] = None,  # (D,) 0: none
+            detection_sigma_r: Optional[ArrayLike] = None,  # (D,) 0: none
+            point_ids: Optional[ArrayLike] = None,  # (M,) int64
+            point_uv: Optional[ArrayLike] = None,  # (M, 2)
+            point_depth: Optional[ArrayLike] = None,  # (M,) 0: none
+    ) -> list[Assignment]: ...
     def optimize_window(self) -> SolveReport: ...
     def optimize_batch(self) -> SolveReport: ...
     def keyframe(self, id: int) -> Optional[Float64Array]: ...  # (7,) T_wc
@@ -360,7 +395,8 @@ class ReplayResult:
     def seconds(self) -> float: ...
 
 def replay(log_path: str, options: Optional[BackendOptions] = None,
-           mode: Literal["window", "batch"] = "window") -> ReplayResult: ...
+           mode: Literal["window", "batch"] = "window",
+           final_batch: bool = False) -> ReplayResult: ...
 
 def import_tum(trajectory: str, objects: Sequence[tuple[str, str]],
                stride: int = 5, odometry_sigma_t: float = 0.005,

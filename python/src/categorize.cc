@@ -37,7 +37,8 @@ void BindCategorize(py::module_& m) {
       .def_readonly("min_cluster_separation", &D::min_cluster_separation)
       .def_readonly("empty_fraction", &D::empty_fraction)
       .def_readonly("prior_axis_used", &D::prior_axis_used)
-      .def_readonly("prior_order_snapped", &D::prior_order_snapped);
+      .def_readonly("prior_order_snapped", &D::prior_order_snapped)
+      .def_readonly("prior_type_used", &D::prior_type_used);
 
   using C = CategorizedDetection;
   py::class_<C>(m,

@@ -63,6 +63,7 @@ void BindCategorizationOptions(py::module_& m) {
       .def_readwrite("asymmetric_inlier_angle", &O::asymmetric_inlier_angle)
       .def_readwrite("translation_gate", &O::translation_gate)
       .def_readwrite("prior_snap_angle", &O::prior_snap_angle)
+      .def_readwrite("read_one_mode_with_prior", &O::read_one_mode_with_prior)
       .def(
           "validate",
           [](const O& options) { ThrowIfError(options.Validate()); },

@@ -839,6 +839,47 @@ void FillContinuous(const std::vector<PoseHypothesis>& hypotheses,
   out->twist.assign(work.psi.begin(), work.psi.end());
 }
 
+// True when a one-mode detection of a class with `prior` is read with the
+// prior's type: the prior is symmetric and knows its axis.
+bool ReadsOneModeWithPrior(const CategorizationOptions& options,
+                           const ClassPrior* prior) {
+  return options.read_one_mode_with_prior && prior != nullptr &&
+         prior->symmetry != SymmetryType::kAsymmetric &&
+         prior->axis_o.norm() > 0.0;
+}
+
+// One mode read with the prior's type, from FillAsymmetric's outputs: the
+// mean pose is the base, a_o the prior axis, a_c = R_base a_o, and every
+// hypothesis' twist about a_o relative to R_base,
+//   twist_j = Twist(R_base^T R_j, a_o).
+// Discrete: one cluster at theta = 0 of the inliers, its spread the weighted
+// RMS of their twists.
+void ReadOneModeWithPrior(const ClassPrior& prior,
+                          const Work& work,
+                          CategorizedDetection* out) {
+  const Eigen::Vector3d a_o = prior.axis_o.normalized();
+  const Eigen::Quaterniond& q_base = out->T_co_base.q;
+  out->axis_o = a_o;
+  out->axis_c = q_base * a_o;
+  const int n = static_cast<int>(work.q.size());
+  for (int j = 0; j < n; ++j) {
+    out->twist[j] = WrapToPi(
+        TwistAngle(Eigen::Quaterniond(q_base.conjugate() * work.q[j]), a_o));
+  }
+  out->type = prior.symmetry;
+  out->diagnostics.prior_type_used = true;
+  if (prior.symmetry != SymmetryType::kDiscrete) return;
+  AngleCluster cluster;
+  cluster.members = out->inliers;
+  double sum_sq = 0.0;
+  for (int j : out->inliers) {
+    cluster.weight += work.w[j];
+    sum_sq += work.w[j] * out->twist[j] * out->twist[j];
+  }
+  cluster.spread = std::sqrt(sum_sq / cluster.weight);
+  out->clusters.assign(1, cluster);
+}
+
 void Reset(CategorizedDetection* out) {
   out->type = SymmetryType::kAsymmetric;
   out->reference = 0;
@@ -943,6 +984,9 @@ Status Categorize(const std::vector<PoseHypothesis>& hypotheses,
   switch (pass.type) {
     case SymmetryType::kAsymmetric:
       FillAsymmetric(hypotheses, options, r, work, out);
+      if (ReadsOneModeWithPrior(options, prior)) {
+        ReadOneModeWithPrior(*prior, work, out);
+      }
       break;
     case SymmetryType::kDiscrete:
       FillDiscrete(hypotheses, options, prior, r, pass, work, out);
@@ -952,7 +996,8 @@ Status Categorize(const std::vector<PoseHypothesis>& hypotheses,
       break;
   }
   out->diagnostics.prior_axis_used =
-      prior_axis_used && pass.type != SymmetryType::kAsymmetric;
+      out->diagnostics.prior_type_used ||
+      (prior_axis_used && pass.type != SymmetryType::kAsymmetric);
   return Status::Ok();
 }
 

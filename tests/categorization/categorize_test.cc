@@ -77,7 +77,8 @@ void ExpectWellFormed(const std::vector<PoseHypothesis>& hypotheses,
     EXPECT_TRUE(out.clusters.empty());
     return;
   }
-  ASSERT_GE(out.clusters.size(), 2u);
+  // One mode read with a discrete prior's type is one cluster.
+  ASSERT_GE(out.clusters.size(), out.diagnostics.prior_type_used ? 1u : 2u);
   EXPECT_EQ(out.clusters[0].theta, 0.0);
   std::vector<int> members;
   for (const AngleCluster& c : out.clusters) {
@@ -686,6 +687,109 @@ TEST(CategorizeTest, ClassPriorAxisImprovesTheCameraAxis) {
       RunCell(Spec(SymmetryType::kContinuous, 1, {}, 5, 0.1), 100, 41);
   EXPECT_GE(with.correct, 98);
   EXPECT_LE(Median(with.axis_error), Median(without.axis_error) + 0.1);
+}
+
+// One mode of a class with a symmetric prior takes the prior's type: one
+// pose (a single-hypothesis detector) and a noisy one-mode set, any axis.
+TEST(CategorizeTest, OneModeTakesTheTypeOfASymmetricPrior) {
+  const Eigen::Vector3d axis = Eigen::Vector3d(1, -2, 0.5).normalized();
+  const Eigen::Quaterniond q = Rot(Eigen::Vector3d(0.3, 1, -0.2), 0.8);
+  const Eigen::Vector3d t(0.1, -0.2, 2.5);
+  for (SymmetryType type :
+       {SymmetryType::kDiscrete, SymmetryType::kContinuous}) {
+    ClassPrior prior;
+    prior.symmetry = type;
+    prior.order = type == SymmetryType::kDiscrete ? 3 : 0;
+    prior.axis_o = -2.0 * axis;  // any length, any sign
+    CategorizedDetection out;
+    const std::vector<PoseHypothesis> one = {Hyp(q, t, 0.7)};
+    ASSERT_TRUE(Categorize(one, CategorizationOptions(), &prior, &out).ok());
+    ExpectWellFormed(one, out);
+    EXPECT_EQ(out.type, type);
+    EXPECT_TRUE(out.diagnostics.prior_type_used);
+    EXPECT_TRUE(out.diagnostics.prior_axis_used);
+    EXPECT_LT(RotationErrorDeg(out.T_co_base.q, q), 1e-9);
+    EXPECT_LT((out.t_co - t).norm(), 1e-12);
+    // The prior's axis, unit, with the prior's sign.
+    EXPECT_LT((out.axis_o + axis).norm(), 1e-12);
+    EXPECT_LT((out.axis_c + q * axis).norm(), 1e-12);
+    EXPECT_EQ(out.inliers, std::vector<int>{0});
+    EXPECT_NEAR(out.twist[0], 0.0, 1e-12);
+    if (type == SymmetryType::kDiscrete) {
+      ASSERT_EQ(out.clusters.size(), 1u);
+      EXPECT_EQ(out.clusters[0].theta, 0.0);
+      EXPECT_EQ(out.clusters[0].members, std::vector<int>{0});
+      EXPECT_DOUBLE_EQ(out.clusters[0].weight, 0.7);
+      EXPECT_NEAR(out.clusters[0].spread, 0.0, 1e-12);
+    } else {
+      EXPECT_TRUE(out.clusters.empty());
+    }
+  }
+}
+
+TEST(CategorizeTest, OneNoisyModeTakesThePriorTypeAndKeepsItsTwists) {
+  ClassPrior prior;
+  prior.symmetry = SymmetryType::kDiscrete;
+  prior.order = 2;
+  const HypothesisSetSpec spec = Spec(SymmetryType::kDiscrete, 2, {0}, 5, 0.1);
+  TestRandom random(53);
+  for (int trial = 0; trial < 20; ++trial) {
+    GeneratedDetection d = GenerateDetection(spec, &random);
+    prior.axis_o = d.axis_o;
+    CategorizedDetection out;
+    ASSERT_TRUE(
+        Categorize(d.hypotheses, CategorizationOptions(), &prior, &out).ok());
+    ASSERT_EQ(out.type, SymmetryType::kDiscrete);
+    ExpectWellFormed(d.hypotheses, out);
+    ASSERT_EQ(out.clusters.size(), 1u);
+    EXPECT_EQ(out.clusters[0].members, out.inliers);
+    EXPECT_LT(AxisErrorDeg(out.axis_c, d.T_co_true.q * d.axis_o), 5.0);
+    // Each inlier's twist reproduces its rotation about the axis up to the
+    // swing: R_j ~= R_base Rot(a_o, twist_j) within the noise.
+    for (int j : out.inliers) {
+      const Eigen::Quaterniond rebuilt =
+          out.T_co_base.q * Rot(out.axis_o, out.twist[j]);
+      EXPECT_LT(RotationErrorDeg(rebuilt, d.hypotheses[j].T_co.q), 25.0);
+    }
+  }
+}
+
+TEST(CategorizeTest, OneModeStaysAsymmetricWithoutAUsablePrior) {
+  const std::vector<PoseHypothesis> one = {Hyp(Rot({0, 0, 1}, 0.4))};
+  ClassPrior no_axis;
+  no_axis.symmetry = SymmetryType::kContinuous;
+  ClassPrior asymmetric;
+  ClassPrior with_axis = no_axis;
+  with_axis.axis_o = Eigen::Vector3d::UnitZ();
+  CategorizationOptions off;
+  off.read_one_mode_with_prior = false;
+  CategorizedDetection out;
+  const std::vector<const ClassPrior*> priors = {
+      nullptr, &no_axis, &asymmetric};
+  for (const ClassPrior* prior : priors) {
+    ASSERT_TRUE(Categorize(one, CategorizationOptions(), prior, &out).ok());
+    EXPECT_EQ(out.type, SymmetryType::kAsymmetric);
+    EXPECT_FALSE(out.diagnostics.prior_type_used);
+  }
+  ASSERT_TRUE(Categorize(one, off, &with_axis, &out).ok());
+  EXPECT_EQ(out.type, SymmetryType::kAsymmetric);
+  EXPECT_FALSE(out.diagnostics.prior_type_used);
+  EXPECT_TRUE(out.axis_o.isZero());
+}
+
+// Hypotheses that show two modes keep their own type under any prior.
+TEST(CategorizeTest, TwoModesKeepTheirTypeUnderAContinuousPrior) {
+  const HypothesisSetSpec spec = Spec(SymmetryType::kDiscrete, 2, {}, 3, 0.0);
+  TestRandom random(59);
+  GeneratedDetection d = GenerateDetection(spec, &random);
+  ClassPrior prior;
+  prior.symmetry = SymmetryType::kContinuous;
+  prior.axis_o = d.axis_o;
+  CategorizedDetection out;
+  ASSERT_TRUE(
+      Categorize(d.hypotheses, CategorizationOptions(), &prior, &out).ok());
+  EXPECT_EQ(out.type, SymmetryType::kDiscrete);
+  EXPECT_FALSE(out.diagnostics.prior_type_used);
 }
 
 // ---------------------------------------------------------------------------

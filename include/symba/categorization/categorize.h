@@ -58,7 +58,14 @@
 //
 // A class prior (log header `classes`) can refine the result: a prior axis
 // replaces the voted axis, and a discrete order snaps the cluster angles to
-// multiples of 2 pi / order. The type always comes from the hypotheses.
+// multiples of 2 pi / order. The type comes from the hypotheses, with one
+// exception (read_one_mode_with_prior): hypotheses that show one mode (N = 1
+// included: a single-pose detector) of a class whose prior is discrete or
+// continuous with an axis are read with the prior's type, so that the next
+// frame's flip to another symmetric pose is no contradiction. Then
+//   axis_o = prior axis (unit), T_co_base = the asymmetric mean pose,
+//   axis_c = R_base axis_o, discrete: one cluster at theta = 0 holding the
+//   inliers (the backend reads its angle modulo 2 pi / order).
 #ifndef SYMBA_CATEGORIZATION_CATEGORIZE_H_
 #define SYMBA_CATEGORIZATION_CATEGORIZE_H_
 
@@ -118,6 +125,10 @@ struct CategorizationOptions {
   // With a discrete class prior, a cluster angle snaps to the nearest
   // multiple of 2 pi / order when it is within this of it.
   double prior_snap_angle = 15.0 * kPi / 180.0;
+  // Hypotheses showing one mode of a class whose prior is discrete or
+  // continuous with a known axis take the prior's type (see the header
+  // comment); off: one mode always reads as asymmetric.
+  bool read_one_mode_with_prior = true;
 
   // OK, or which option is out of range and why.
   Status Validate() const;
@@ -151,6 +162,7 @@ struct CategorizationDiagnostics {
   double empty_fraction = 0;          // share of the circle in wide gaps
   bool prior_axis_used = false;
   bool prior_order_snapped = false;
+  bool prior_type_used = false;  // one mode read with the prior's type
 };
 
 struct CategorizedDetection {

@@ -140,6 +140,7 @@ void BindEstimates(py::module_& m) {
       .def_readonly("object_upgrades", &S::object_upgrades)
       .def_readonly("objects_dropped", &S::objects_dropped)
       .def_readonly("rotation_outliers", &S::rotation_outliers)
+      .def_readonly("folded_angles", &S::folded_angles)
       .def_readonly("marginalized_keyframes", &S::marginalized_keyframes)
       .def_readonly("ambiguous_edges_dropped", &S::ambiguous_edges_dropped)
       .def_readonly("solves", &S::solves)

@@ -193,6 +193,29 @@ int FindAngle(const ObjectState& object,
   return best >= 0 && best_distance <= gate ? best : -1;
 }
 
+FoldedAngle FoldToAngle(const ObjectState& object,
+                        const Eigen::Quaterniond& R_wo,
+                        int order,
+                        double gate) {
+  const double step = kTwoPi / order;
+  FoldedAngle best;
+  double best_remainder = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < object.thetas.size(); ++i) {
+    const Eigen::Quaterniond R_wo_i = object.Rotation(static_cast<int>(i));
+    const double delta =
+        TwistAngle(Eigen::Quaterniond(R_wo_i.conjugate() * R_wo),
+                   Eigen::Vector3d(object.a_o));
+    const int multiple = static_cast<int>(std::lround(delta / step));
+    const double remainder = std::abs(delta - multiple * step);
+    if (remainder < best_remainder) {
+      best_remainder = remainder;
+      best.angle = static_cast<int>(i);
+      best.multiple = multiple;
+    }
+  }
+  return best_remainder <= gate ? best : FoldedAngle();
+}
+
 double NewAngleTheta(const ObjectState& object,
                      const Eigen::Quaterniond& R_wo) {
   const double theta_0 = object.thetas.empty() ? 0.0 : *object.thetas[0];

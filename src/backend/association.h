@@ -98,6 +98,19 @@ SymbaMatch FindSymbaMatch(const ObjectList& objects,
 int FindAngle(const ObjectState& object,
               const Eigen::Quaterniond& R_wo,
               double gate);
+// A rotation R_wo of a discrete object of known symmetry order, read modulo
+// step = 2 pi / order about a_o: the angle i and multiple m minimising
+// |Twist(R_wo_i^T R_wo, a_o) - m step|, when that remainder is within
+// `gate` (rad); angle = -1 otherwise. R_wo Rot(a_o, -m step) is then the
+// same physical pose seen at angle i.
+struct FoldedAngle {
+  int angle = -1;
+  int multiple = 0;
+};
+FoldedAngle FoldToAngle(const ObjectState& object,
+                        const Eigen::Quaterniond& R_wo,
+                        int order,
+                        double gate);
 // The theta a new angle of `object` showing R_wo gets: theta_0 plus the
 // twist from angle 0 (or from the anchor when there is no angle yet).
 double NewAngleTheta(const ObjectState& object, const Eigen::Quaterniond& R_wo);

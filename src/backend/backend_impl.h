@@ -169,7 +169,18 @@ class Backend::Impl {
                      SymmetryType type,
                      const Eigen::Vector3d& a_o,
                      const internal::UpgradeRecord& record);
-  int MatchOrAddAngle(int o, const Eigen::Quaterniond& R_wo);
+  // The angle of discrete object o that `observation` (seen from T_wc)
+  // constrains: the nearest within gate_angle; else, if `may_fold` (the
+  // detection shows one mode) and the class prior gives the order, the
+  // nearest modulo 2 pi / order, the observation then turned by that
+  // multiple about a_o; else a new angle.
+  int MatchOrAddAngle(int o,
+                      const Rigid3d& T_wc,
+                      bool may_fold,
+                      internal::ObjectObservation* observation);
+  // The class prior's symmetry order when it applies to object o (discrete
+  // prior, order >= 2, axis along the object's a_o), else 0.
+  int KnownOrder(int o) const;
   void AddObservation(int o, internal::ObjectObservation observation);
   // The edge of object o's observation i.
   void AddObjectFactor(int o, int i);

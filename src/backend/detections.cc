@@ -188,16 +188,14 @@ int Backend::Impl::AddSymba(int k,
   // Edges: one per discrete angle the detection shows, else one.
   const bool per_angle = objects_[o]->type == SymmetryType::kDiscrete &&
                          cat.type != SymmetryType::kContinuous;
-  for (ObjectObservation& observation :
-       internal::MakeSymbaObservations(cat,
-                                       detection.hypotheses,
-                                       sqrt_info,
-                                       options_.merge_modes,
-                                       per_angle)) {
+  std::vector<ObjectObservation> observations = internal::MakeSymbaObservations(
+      cat, detection.hypotheses, sqrt_info, options_.merge_modes, per_angle);
+  const bool one_mode = observations.size() == 1;
+  for (ObjectObservation& observation : observations) {
     observation.keyframe = k;
     SetObservationNoise(detection, &observation);
     if (per_angle) {
-      observation.angle = MatchOrAddAngle(o, (T_wc * observation.T_co_best).q);
+      observation.angle = MatchOrAddAngle(o, T_wc, one_mode, &observation);
     }
     AddObservation(o, std::move(observation));
   }

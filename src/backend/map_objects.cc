@@ -200,10 +200,47 @@ void Backend::Impl::UpgradeObject(int o,
   RebuildObjectFactors(o);
 }
 
-int Backend::Impl::MatchOrAddAngle(int o, const Eigen::Quaterniond& R_wo) {
+int Backend::Impl::KnownOrder(int o) const {
+  const ObjectState& object = *objects_[o];
+  const ClassPrior* prior = PriorOf(object.class_name);
+  if (prior == nullptr || prior->symmetry != SymmetryType::kDiscrete ||
+      prior->order < 2 || !(prior->axis_o.norm() > 0.0)) {
+    return 0;
+  }
+  const double alignment =
+      std::abs(prior->axis_o.normalized().dot(Eigen::Vector3d(object.a_o)));
+  return alignment >= std::cos(options_.gate_axis) ? prior->order : 0;
+}
+
+// Folding: only a detection that shows one mode folds (the modes of one
+// detection showing several open the angles between them, tied by its
+// edges). R_wo' = R_wo Rot(a_o, -m step) is the same physical pose (a
+// symmetry of the class), so every component is turned alike in the object
+// frame, T_co' = T_co (Rot(a_o, -m step), 0); positions and the measured
+// axis R_co a_o are unchanged.
+int Backend::Impl::MatchOrAddAngle(int o,
+                                   const Rigid3d& T_wc,
+                                   bool may_fold,
+                                   internal::ObjectObservation* observation) {
   ObjectState& object = *objects_[o];
+  const Eigen::Quaterniond R_wo = (T_wc * observation->T_co_best).q;
   const int angle = internal::FindAngle(object, R_wo, options_.gate_angle);
   if (angle >= 0) return angle;
+  const int order = may_fold ? KnownOrder(o) : 0;
+  if (order > 0) {
+    const internal::FoldedAngle folded =
+        internal::FoldToAngle(object, R_wo, order, options_.gate_angle);
+    if (folded.angle >= 0) {
+      const Eigen::Quaterniond turn(Eigen::AngleAxisd(
+          -folded.multiple * kTwoPi / order, Eigen::Vector3d(object.a_o)));
+      observation->T_co_best.q = (observation->T_co_best.q * turn).normalized();
+      for (PoseComponent& component : observation->components) {
+        component.T_co.q = (component.T_co.q * turn).normalized();
+      }
+      ++statistics_.folded_angles;
+      return folded.angle;
+    }
+  }
   object.thetas.push_back(
       std::make_unique<double>(internal::NewAngleTheta(object, R_wo)));
   return static_cast<int>(object.thetas.size()) - 1;

@@ -62,6 +62,7 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
       .Member("object_upgrades", s.object_upgrades)
       .Member("objects_dropped", s.objects_dropped)
       .Member("rotation_outliers", s.rotation_outliers)
+      .Member("folded_angles", s.folded_angles)
       .Member("marginalized_keyframes", s.marginalized_keyframes)
       .Member("ambiguous_edges_dropped", s.ambiguous_edges_dropped)
       .EndObject();

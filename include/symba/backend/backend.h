@@ -82,6 +82,8 @@ struct BackendStatistics {
   int object_upgrades = 0;    // asymmetric map objects that became symmetric
   int objects_dropped = 0;    // tentative objects never confirmed
   int rotation_outliers = 0;  // symba: flips that did not (yet) upgrade
+  // symba: discrete observations read modulo 2 pi / order (class prior)
+  int folded_angles = 0;
   int marginalized_keyframes = 0;   // keyframes that left the window
   int ambiguous_edges_dropped = 0;  // mixtures not frozen into the prior
   int solves = 0;

@@ -374,9 +374,15 @@ Status SimulationOptions::Validate() const {
   if (!(weight_jitter >= 0.0 && weight_jitter < 1.0)) {
     return Status::Error("simulation option weight_jitter must be in [0, 1)");
   }
+  if (single_hypothesis &&
+      !(outlier_fraction >= 0.0 && outlier_fraction < 1.0)) {
+    return Status::Error(
+        "simulation option outlier_fraction must be in [0, 1) with "
+        "single_hypothesis (the probability that a detection is an outlier)");
+  }
   const int num_outliers =
       static_cast<int>(std::lround(outlier_fraction * num_hypotheses));
-  if (num_outliers >= num_hypotheses) {
+  if (!single_hypothesis && num_outliers >= num_hypotheses) {
     return Status::Error(
         "simulation option outlier_fraction leaves no inlier hypothesis");
   }

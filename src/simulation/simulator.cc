@@ -130,6 +130,103 @@ std::vector<int> DrawVisibleModes(const SimulationOptions& options,
   return modes;
 }
 
+// A detection of `object` without hypotheses: class and claimed noise.
+DetectionInput EmptyDetection(const SimulationOptions& options,
+                              const SimulatedObject& object) {
+  DetectionInput detection;
+  detection.class_name = object.class_name;
+  if (options.write_detection_sigmas) {
+    if (options.translation_sigma > 0.0) {
+      detection.sigma_t = options.translation_sigma;
+    }
+    if (options.rotation_sigma > 0.0) {
+      detection.sigma_r = options.rotation_sigma;
+    }
+  }
+  return detection;
+}
+
+// The view's dominant mode of a k-fold object: a random one of `visible`,
+// or the previous view's with dominant_mode_persistence if still visible.
+int DrawDominantMode(const SimulationOptions& options,
+                     const std::vector<int>& visible,
+                     int previous_dominant,
+                     Random* random) {
+  const bool keep = random->Bernoulli(options.dominant_mode_persistence);
+  const int drawn = visible[random->Index(static_cast<int>(visible.size()))];
+  const bool previous_visible =
+      std::find(visible.begin(), visible.end(), previous_dominant) !=
+      visible.end();
+  return keep && previous_visible ? previous_dominant : drawn;
+}
+
+// An inlier hypothesis at angle phi about a_o, with the inlier noise:
+// T_co (Rot(a_o, phi), 0) (Exp(r), s).
+Rigid3d InlierPose(const SimulationOptions& options,
+                   const Rigid3d& T_co,
+                   const Eigen::Vector3d& a_o,
+                   double phi,
+                   Random* random) {
+  const Eigen::Vector3d r = random->NormalVector(options.rotation_sigma);
+  const Eigen::Vector3d s = random->NormalVector(options.translation_sigma);
+  const Eigen::Quaterniond q = T_co.q *
+                               Eigen::Quaterniond(Eigen::AngleAxisd(phi, a_o)) *
+                               ExpSO3<double>(r);
+  return Rigid3d(q.normalized(), T_co.t + s);
+}
+
+// An outlier hypothesis: any rotation, the translation blurred.
+Rigid3d OutlierPose(const SimulationOptions& options,
+                    const Rigid3d& T_co,
+                    Random* random) {
+  const Eigen::Quaterniond q = random->Rotation();
+  const Eigen::Vector3d s =
+      random->NormalVector(options.outlier_translation_sigma);
+  return Rigid3d(q, T_co.t + s);
+}
+
+double JitteredWeight(const SimulationOptions& options,
+                      double base,
+                      Random* random) {
+  return base *
+         (1.0 + random->Uniform(-options.weight_jitter, options.weight_jitter));
+}
+
+// The single-hypothesis detector (SimulationOptions::single_hypothesis).
+DetectionInput GenerateSinglePoseDetection(const SimulationOptions& options,
+                                           const SimulatedObject& object,
+                                           const Rigid3d& T_co,
+                                           int previous_dominant,
+                                           Random* random,
+                                           SimulatedDetectionTruth* truth) {
+  const Eigen::Vector3d a_o = object.axis_o.normalized();
+  truth->visible_modes = {0};
+  truth->dominant_mode = 0;
+  double phi = 0.0;
+  if (object.symmetry == SymmetryType::kDiscrete) {
+    truth->visible_modes.resize(object.order);
+    for (int m = 0; m < object.order; ++m) truth->visible_modes[m] = m;
+    truth->dominant_mode = DrawDominantMode(
+        options, truth->visible_modes, previous_dominant, random);
+    phi = WrapToPi(kTwoPi * truth->dominant_mode / object.order);
+  } else if (object.symmetry == SymmetryType::kContinuous) {
+    phi = WrapToPi(random->Uniform(-0.5, 0.5) * options.continuous_arc);
+  }
+  PoseHypothesis h;
+  const bool outlier = random->Bernoulli(options.outlier_fraction);
+  if (outlier) {
+    h.T_co = OutlierPose(options, T_co, random);
+  } else {
+    h.T_co = InlierPose(options, T_co, a_o, phi, random);
+  }
+  h.weight = JitteredWeight(options, options.dominant_weight, random);
+  truth->hypothesis_mode = {outlier ? -1 : truth->dominant_mode};
+  truth->hypothesis_angle = {outlier ? 0.0 : phi};
+  DetectionInput detection = EmptyDetection(options, object);
+  detection.hypotheses.push_back(h);
+  return detection;
+}
+
 // One detection of `object` seen from T_wc. `previous_dominant` is the
 // dominant mode of the previous view of this object (-1: none).
 DetectionInput GenerateDetection(const SimulationOptions& options,
@@ -139,6 +236,10 @@ DetectionInput GenerateDetection(const SimulationOptions& options,
                                  Random* random,
                                  SimulatedDetectionTruth* truth) {
   const Rigid3d T_co = T_wc.Inverse() * object.T_wo;
+  if (options.single_hypothesis) {
+    return GenerateSinglePoseDetection(
+        options, object, T_co, previous_dominant, random, truth);
+  }
   const Eigen::Vector3d a_o = object.axis_o.normalized();
   const bool discrete = object.symmetry == SymmetryType::kDiscrete;
   const bool continuous = object.symmetry == SymmetryType::kContinuous;
@@ -147,13 +248,8 @@ DetectionInput GenerateDetection(const SimulationOptions& options,
   truth->dominant_mode = 0;
   if (discrete) {
     truth->visible_modes = DrawVisibleModes(options, object.order, random);
-    const std::vector<int>& visible = truth->visible_modes;
-    const bool keep = random->Bernoulli(options.dominant_mode_persistence);
-    const int drawn = visible[random->Index(static_cast<int>(visible.size()))];
-    const bool previous_visible =
-        std::find(visible.begin(), visible.end(), previous_dominant) !=
-        visible.end();
-    truth->dominant_mode = keep && previous_visible ? previous_dominant : drawn;
+    truth->dominant_mode = DrawDominantMode(
+        options, truth->visible_modes, previous_dominant, random);
   }
   const double phi_dominant =
       continuous
@@ -166,16 +262,7 @@ DetectionInput GenerateDetection(const SimulationOptions& options,
   const int num_inliers = n - num_outliers;
   const int num_visible = static_cast<int>(truth->visible_modes.size());
 
-  DetectionInput detection;
-  detection.class_name = object.class_name;
-  if (options.write_detection_sigmas) {
-    if (options.translation_sigma > 0.0) {
-      detection.sigma_t = options.translation_sigma;
-    }
-    if (options.rotation_sigma > 0.0) {
-      detection.sigma_r = options.rotation_sigma;
-    }
-  }
+  DetectionInput detection = EmptyDetection(options, object);
   truth->hypothesis_mode.clear();
   truth->hypothesis_angle.clear();
   for (int j = 0; j < n; ++j) {
@@ -196,26 +283,18 @@ DetectionInput GenerateDetection(const SimulationOptions& options,
       } else {
         dominant = true;
       }
-      const Eigen::Vector3d r = random->NormalVector(options.rotation_sigma);
-      const Eigen::Vector3d s = random->NormalVector(options.translation_sigma);
-      const Eigen::Quaterniond q =
-          T_co.q * Eigen::Quaterniond(Eigen::AngleAxisd(phi, a_o)) *
-          ExpSO3<double>(r);
-      h.T_co = Rigid3d(q.normalized(), T_co.t + s);
+      h.T_co = InlierPose(options, T_co, a_o, phi, random);
       truth->hypothesis_mode.push_back(mode);
       truth->hypothesis_angle.push_back(phi);
     } else {
-      const Eigen::Quaterniond q = random->Rotation();
-      const Eigen::Vector3d s =
-          random->NormalVector(options.outlier_translation_sigma);
-      h.T_co = Rigid3d(q, T_co.t + s);
+      h.T_co = OutlierPose(options, T_co, random);
       truth->hypothesis_mode.push_back(-1);
       truth->hypothesis_angle.push_back(0.0);
     }
-    const double base =
-        dominant ? options.dominant_weight : options.other_weight;
-    h.weight = base * (1.0 + random->Uniform(-options.weight_jitter,
-                                             options.weight_jitter));
+    h.weight = JitteredWeight(
+        options,
+        dominant ? options.dominant_weight : options.other_weight,
+        random);
     detection.hypotheses.push_back(h);
   }
   // Shuffle hypotheses and their truth together.

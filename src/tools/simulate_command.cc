@@ -271,6 +271,12 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
   cmd->add_option("--hypotheses", o.num_hypotheses, "hypotheses per detection")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  cmd->add_option("--single-hypothesis",
+                  o.single_hypothesis,
+                  "a single-pose detector: one hypothesis per detection at a "
+                  "random one of the symmetric poses (--outlier-fraction is "
+                  "then the probability of an outlier)")
+      ->capture_default_str();
   AddDegreeOption(cmd, f, "--rotation-sigma");
   cmd->add_option("--translation-sigma",
                   o.translation_sigma,

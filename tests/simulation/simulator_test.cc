@@ -277,6 +277,60 @@ TEST(Simulation, DiscreteViewsShowSubsetsAndTheDominantModeFlips) {
   EXPECT_EQ(dominant.size(), 1u);
 }
 
+// The single-pose detector: one hypothesis per detection, at a random one
+// of the symmetric poses (every mode of a discrete object, flipping), an
+// outlier with outlier_fraction.
+TEST(Simulation, SingleHypothesisDetectorGivesOnePoseAtARandomSymmetricPose) {
+  SimulationOptions options;
+  options.single_hypothesis = true;
+  for (const char* name : {"disc", "square", "cts", "asym"}) {
+    SCOPED_TRACE(name);
+    const SimulatedSequence seq = MustSimulate(name, options, 7);
+    const SimulatedObject& object = seq.objects[0];
+    std::set<int> modes;
+    int detections = 0;
+    int outliers = 0;
+    int flips = 0;
+    int previous = -1;
+    for (size_t k = 0; k < seq.keyframes.size(); ++k) {
+      const Rigid3d T_cw = seq.T_wc_true[k].Inverse();
+      for (size_t d = 0; d < seq.keyframes[k].detections.size(); ++d) {
+        const DetectionInput& det = seq.keyframes[k].detections[d];
+        const SimulatedDetectionTruth& truth = seq.detections[k][d];
+        ASSERT_EQ(det.hypotheses.size(), 1u);
+        ASSERT_EQ(truth.hypothesis_mode.size(), 1u);
+        ++detections;
+        if (truth.hypothesis_mode[0] < 0) {
+          ++outliers;
+          continue;
+        }
+        modes.insert(truth.hypothesis_mode[0]);
+        if (previous >= 0 && truth.dominant_mode != previous) ++flips;
+        previous = truth.dominant_mode;
+        // The pose is the labelled symmetric pose within the noise
+        // (3 deg per axis: 15 deg is five sigma of the angle).
+        const Rigid3d T_co = T_cw * object.T_wo;
+        const Eigen::Quaterniond expected =
+            T_co.q * Rot(object.axis_o, truth.hypothesis_angle[0]);
+        EXPECT_LT(RotationAngle(det.hypotheses[0].T_co.q, expected),
+                  15.0 * kPi / 180.0);
+      }
+    }
+    EXPECT_GT(detections, 50);
+    EXPECT_GT(outliers, 0);
+    EXPECT_LT(outliers, detections / 4);
+    if (object.symmetry == SymmetryType::kDiscrete) {
+      EXPECT_EQ(static_cast<int>(modes.size()), object.order);
+      EXPECT_GT(flips, detections / 3);
+    }
+  }
+  options.outlier_fraction = 1.0;
+  SimulatedSequence seq;
+  const Status status = Simulate("disc", options, 1, &seq);
+  ASSERT_FALSE(status.ok());
+  EXPECT_THAT(status.message(), HasSubstr("outlier_fraction"));
+}
+
 TEST(Simulation, MissedDetectionsFollowTheirProbability) {
   SimulationOptions options;
   options.miss_probability = 0.0;

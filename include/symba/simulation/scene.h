@@ -195,6 +195,19 @@ struct SimulationOptions {
   // shuffled. The dominant mode flipping between views is what breaks the
   // single-hypothesis baseline; views that show only some modes break the
   // multi-hypothesis one (docs/simulation.md).
+  //
+  // With single_hypothesis (most 6-DoF detectors: one pose per object per
+  // image) a detection is one hypothesis instead: with probability
+  // outlier_fraction an outlier as above, else an inlier at a random one
+  // of the object's symmetric poses,
+  //     discrete    phi = 2 pi m / k, m the dominant mode (uniform over all
+  //                 k modes, kept with dominant_mode_persistence)
+  //     continuous  phi ~ U(-arc/2, arc/2) (arc = continuous_arc)
+  //     asymmetric  phi = 0
+  // with the inlier noise, weight dominant_weight (1 + U(-weight_jitter,
+  // weight_jitter)). num_hypotheses, subset_view_probability, other_weight
+  // and continuous_dominant_spread are then unused.
+  bool single_hypothesis = false;
   int num_hypotheses = 30;
   double rotation_sigma = 3.0 * kPi / 180.0;  // rad per axis
   double translation_sigma = 0.03;            // m per axis

@@ -157,6 +157,9 @@ Rigid3d ClosestSymmetricPose(const MapObjectEstimate& object,
                              const Rigid3d& T_cw,
                              const Rigid3d& T_co_reference) {
   const Eigen::Quaterniond& q_ref = T_co_reference.q;
+  if (object.poses.empty()) {  // not from the backend, which gives one
+    return Rigid3d(Eigen::Quaterniond::Identity(), object.t_wo);
+  }
   if (object.symmetry == SymmetryType::kContinuous) {
     // Turning the object about its world axis a_w through t_wo leaves it
     // unchanged: T_wo(phi) = (Rot(a_w, phi) R_wo0, t_wo), so

@@ -44,7 +44,8 @@ struct RefinedBopResultsOptions {
 //   discrete    the pose of one of its angles (MapObjectEstimate::poses)
 //   continuous  its representative pose turned about the world axis through
 //               t_wo by the angle that fits best
-// The translation is t_wo in every case.
+// The translation is t_wo in every case (with no pose at all, the identity
+// rotation).
 Rigid3d ClosestSymmetricPose(const MapObjectEstimate& object,
                              const Rigid3d& T_cw,
                              const Rigid3d& T_co_reference);

@@ -259,6 +259,22 @@ symba::Status CheckParentExists(const std::string& path) {
   return symba::Status::Ok();
 }
 
+// --bop-out's rows (none without it), computed before any output is
+// written, so that an unmapped class or a missing scene id leaves no file.
+symba::Status RefinedBopRows(const ReplayFlags& f,
+                             const symba::ReplayResult& result,
+                             std::vector<symba::BopResult>* rows) {
+  if (f.bop_out.empty()) return symba::Status::Ok();
+  symba::Status status = CheckParentExists(f.bop_out);
+  if (!status.ok()) return status;
+  symba::RefinedBopResultsOptions options;
+  if (f.bop_scene >= 0) options.scene_id = f.bop_scene;
+  status = symba::RefinedBopResultsFromLog(f.log, result, options, rows);
+  if (!status.ok())
+    return symba::Status::Error("--bop-out: " + status.message());
+  return symba::Status::Ok();
+}
+
 bool EndsWith(const std::string& text, const std::string& suffix) {
   return text.size() >= suffix.size() &&
          text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -315,18 +331,8 @@ int RunReplay(const ReplayFlags& f) {
   symba::ReplayResult result;
   symba::Status status = symba::ReplayLog(f.log, options, &result);
   if (show_progress) std::fprintf(stderr, "\n");
-  // Every output is computed before any is written: an unmapped class or a
-  // missing scene id leaves no file behind.
   std::vector<symba::BopResult> bop_rows;
-  if (status.ok() && !f.bop_out.empty()) status = CheckParentExists(f.bop_out);
-  if (status.ok() && !f.bop_out.empty()) {
-    symba::RefinedBopResultsOptions bop_options;
-    if (f.bop_scene >= 0) bop_options.scene_id = f.bop_scene;
-    status =
-        symba::RefinedBopResultsFromLog(f.log, result, bop_options, &bop_rows);
-    if (!status.ok())
-      status = symba::Status::Error("--bop-out: " + status.message());
-  }
+  if (status.ok()) status = RefinedBopRows(f, result, &bop_rows);
   if (status.ok()) {
     status = symba::WriteDirectoryAtomically(
         f.out, symba::ReplayOutputFiles(f.log, options, result));

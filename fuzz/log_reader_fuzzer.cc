@@ -183,7 +183,12 @@ bool SameKeyframe(const KeyframeInput& a, const KeyframeInput& b) {
 
 bool SameHeader(const LogHeader& a, const LogHeader& b) {
   if (a.version != b.version || a.camera.has_value() != b.camera.has_value() ||
-      a.classes.size() != b.classes.size()) {
+      a.classes.size() != b.classes.size() ||
+      a.bop.has_value() != b.bop.has_value()) {
+    return false;
+  }
+  if (a.bop && (a.bop->scene_id != b.bop->scene_id ||
+                a.bop->obj_ids != b.bop->obj_ids)) {
     return false;
   }
   if (a.camera && (!SameBits(a.camera->fx, b.camera->fx) ||

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "import/bop_files.h"
+#include "import/bop_source.h"
 #include "io/text_file.h"
 #include "symba/io/log_file.h"
 #include "symba/io/tum_trajectory.h"
@@ -234,6 +235,25 @@ std::vector<DetectionInput> Detections(const BopImportOptions& o,
   return detections;
 }
 
+// The header's "bop" key: the scene imported and the obj_id of every class
+// (the rows' objects and models_info's).
+Status BopSourceOfImport(const BopImportOptions& o,
+                         const std::vector<BopResultRow>& rows,
+                         const std::map<int, BopModel>& models,
+                         std::optional<BopSource>* source) {
+  std::map<int, std::string> names;
+  for (const BopResultRow& row : rows)
+    names[row.obj_id] = ClassName(o, row.obj_id);
+  for (const auto& model : models)
+    names[model.first] = ClassName(o, model.first);
+  std::vector<int> obj_ids;
+  for (const auto& name : names) obj_ids.push_back(name.first);
+  std::optional<int> row_scene;
+  if (!rows.empty()) row_scene = rows.front().scene_id;
+  return import_internal::MakeBopSource(
+      o.scene, row_scene, obj_ids, names, source);
+}
+
 }  // namespace
 
 Status ParseBopClassNames(const std::string& text,
@@ -325,6 +345,8 @@ Status ImportBop(const BopImportOptions& options,
                                  "): " + model.note);
     }
   }
+  status = BopSourceOfImport(options, rows, models, &header->bop);
+  if (!status.ok()) return status;
   keyframes->clear();
   std::size_t posed = 0;
   for (const ImagePose& pose : poses) {

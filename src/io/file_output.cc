@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <system_error>
@@ -74,6 +76,33 @@ Status WriteDirectoryAtomically(
     return Status::Error(dir_name + ": cannot rename into place: " + message);
   }
   if (!old.empty()) fs::remove_all(old, error);
+  return Status::Ok();
+}
+
+Status WriteFileAtomically(const std::string& path,
+                           const std::string& content) {
+  std::error_code error;
+  const fs::path target(path);
+  const fs::path temporary = SiblingPath(target, "tmp");
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out.is_open()) {
+      return Status::Error(path + ": cannot write (" + std::strerror(errno) +
+                           ")");
+    }
+    out << content;
+    out.close();
+    if (!out) {
+      fs::remove(temporary, error);
+      return Status::Error(path + ": cannot write (write error)");
+    }
+  }
+  fs::rename(temporary, target, error);
+  if (error) {
+    const std::string message = error.message();
+    fs::remove(temporary, error);
+    return Status::Error(path + ": cannot rename into place (" + message + ")");
+  }
   return Status::Ok();
 }
 

@@ -38,6 +38,56 @@ using LineReader = io_internal::JsonTreeReader;
 using Path = io_internal::JsonPath;
 using io_internal::QuoteForMessage;
 
+// An integer >= 0 that fits an int (a BOP id).
+Status NonNegativeInt(const LineReader& in,
+                      Index i,
+                      const Path& path,
+                      int* out) {
+  Status status = in.Int(i, path, out);
+  if (!status.ok()) return status;
+  if (*out < 0) {
+    return in.Fail(path,
+                   "must be a non-negative integer, got " + in.Describe(i));
+  }
+  return Status::Ok();
+}
+
+// The optional "bop" key: {"scene_id": N, "obj_ids": {"<class>": id, ...}}.
+Status ReadBopSource(const LineReader& in, Index bop, BopSource* source) {
+  const Path root;
+  const Path path = root.Member("bop");
+  Status status = in.Object(bop, path);
+  if (!status.ok()) return status;
+  Index scene = 0;
+  status = in.Require(
+      bop, path, "scene_id", "the BOP scene id, an integer >= 0", &scene);
+  if (!status.ok()) return status;
+  status =
+      NonNegativeInt(in, scene, path.Member("scene_id"), &source->scene_id);
+  if (!status.ok()) return status;
+  Index ids = 0;
+  status = in.Require(bop,
+                      path,
+                      "obj_ids",
+                      "the BOP obj_id of each class, {\"<class>\": id, ...}",
+                      &ids);
+  if (!status.ok()) return status;
+  const Path ids_path = path.Member("obj_ids");
+  status = in.Object(ids, ids_path);
+  if (!status.ok()) return status;
+  source->obj_ids.clear();
+  for (Index c = in.tree().node(ids).first; c != 0;
+       c = in.tree().node(c).next) {
+    const std::string_view name = in.tree().Key(c);
+    if (in.Find(ids, name) != c) continue;  // a later one counts
+    int obj_id = 0;
+    status = NonNegativeInt(in, c, ids_path.Member(name), &obj_id);
+    if (!status.ok()) return status;
+    source->obj_ids[std::string(name)] = obj_id;
+  }
+  return Status::Ok();
+}
+
 Status ReadHeader(const LineReader& in, LogHeader* header) {
   const Path root;
   if (in.Type(0) != JsonType::kObject) {
@@ -164,6 +214,14 @@ Status ReadHeader(const LineReader& in, LogHeader* header) {
       }
       header->classes[std::string(name)] = prior;
     }
+  }
+
+  header->bop.reset();
+  if (const Index bop = in.Find(0, "bop"); bop != 0) {
+    BopSource source;
+    status = ReadBopSource(in, bop, &source);
+    if (!status.ok()) return status;
+    header->bop = std::move(source);
   }
   return Status::Ok();
 }

@@ -96,6 +96,31 @@ void Pose(const Rigid3d& pose, JsonWriter* json) {
   json->EndObject();
 }
 
+// The header's "bop" member, after the reader's checks (ids >= 0, class
+// names UTF-8).
+template <typename Fail>
+Status FormatBopSource(const BopSource& bop, Fail fail, JsonWriter* json) {
+  if (bop.scene_id < 0) {
+    return fail(
+        "bop.scene_id",
+        "must be a non-negative integer, got " + std::to_string(bop.scene_id));
+  }
+  for (const auto& [name, obj_id] : bop.obj_ids) {
+    const std::string path = "bop.obj_ids." + name;
+    if (!IsUtf8(name)) return fail(path, "class name is not UTF-8");
+    if (obj_id < 0) {
+      return fail(
+          path,
+          "must be a non-negative integer, got " + std::to_string(obj_id));
+    }
+  }
+  json->Key("bop").BeginObject().Member("scene_id", bop.scene_id);
+  json->Key("obj_ids").BeginObject();
+  for (const auto& [name, obj_id] : bop.obj_ids) json->Member(name, obj_id);
+  json->EndObject().EndObject();
+  return Status::Ok();
+}
+
 }  // namespace
 
 class LogWriter::Impl {
@@ -170,6 +195,10 @@ class LogWriter::Impl {
         json.EndObject();
       }
       json.EndObject();
+    }
+    if (header.bop) {
+      const Status status = FormatBopSource(*header.bop, fail, &json);
+      if (!status.ok()) return status;
     }
     json.EndObject();
     line_.push_back('\n');

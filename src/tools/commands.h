@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 void RegisterEvalCommand(CLI::App* app, int* exit_code);
+void RegisterExportCommand(CLI::App* app, int* exit_code);
 void RegisterImportCommand(CLI::App* app, int* exit_code);
 void RegisterReplayCommand(CLI::App* app, int* exit_code);
 void RegisterSimulateCommand(CLI::App* app, int* exit_code);
@@ -18,6 +19,7 @@ inline void RegisterCommands(CLI::App* app, int* exit_code) {
   RegisterSimulateCommand(app, exit_code);
   RegisterEvalCommand(app, exit_code);
   RegisterImportCommand(app, exit_code);
+  RegisterExportCommand(app, exit_code);
 }
 
 }  // namespace symba::tools

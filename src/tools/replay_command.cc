@@ -3,11 +3,14 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "symba/export/refined_bop_results.h"
 #include "symba/geometry/angle.h"
 #include "symba/io/file_output.h"
 #include "symba/io/pose_graph.h"
@@ -29,6 +32,8 @@ struct ReplayFlags {
   std::string chain_prior = "conditional";
   std::string mode = "window";
   std::string loss;
+  std::string bop_out;  // --bop-out: the refined poses as BOP results
+  int bop_scene = -1;   // --bop-scene; -1: the log header's
   bool quiet = false;
   bool final_batch = false;
   bool g2o_isotropic = false;
@@ -221,8 +226,53 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                 f->g2o_isotropic,
                 "g2o input: replace each edge's information by SE-Sync's "
                 "isotropic one (needed for files with indefinite information)");
+  cmd->add_option("--bop-out",
+                  f->bop_out,
+                  "also write the refined object poses per keyframe image "
+                  "as BOP results (scene_id,im_id,obj_id,score,R,t,time; "
+                  "written atomically)");
+  cmd->add_option("--bop-scene",
+                  f->bop_scene,
+                  "--bop-out: the BOP scene id (default: the log header's "
+                  "bop.scene_id, written by symba import bop)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet", f->quiet, "no progress on stderr");
   return cmd;
+}
+
+// "symba replay: MESSAGE" on stderr; the exit status 1.
+int Fail(const std::string& message) {
+  std::fprintf(stderr, "symba replay: %s\n", message.c_str());
+  return 1;
+}
+
+// The directory a file is to be written into must exist (checked before
+// anything is written).
+symba::Status CheckParentExists(const std::string& path) {
+  std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  if (parent.empty()) parent = ".";
+  std::error_code error;
+  if (!std::filesystem::is_directory(parent, error)) {
+    return symba::Status::Error(path + ": parent directory " + parent.string() +
+                                " does not exist");
+  }
+  return symba::Status::Ok();
+}
+
+// --bop-out's rows (none without it), computed before any output is
+// written, so that an unmapped class or a missing scene id leaves no file.
+symba::Status RefinedBopRows(const ReplayFlags& f,
+                             const symba::ReplayResult& result,
+                             std::vector<symba::BopResult>* rows) {
+  if (f.bop_out.empty()) return symba::Status::Ok();
+  symba::Status status = CheckParentExists(f.bop_out);
+  if (!status.ok()) return status;
+  symba::RefinedBopResultsOptions options;
+  if (f.bop_scene >= 0) options.scene_id = f.bop_scene;
+  status = symba::RefinedBopResultsFromLog(f.log, result, options, rows);
+  if (!status.ok())
+    return symba::Status::Error("--bop-out: " + status.message());
+  return symba::Status::Ok();
 }
 
 bool EndsWith(const std::string& text, const std::string& suffix) {
@@ -253,7 +303,12 @@ int RunPoseGraphReplay(const ReplayFlags& f) {
 }
 
 int RunReplay(const ReplayFlags& f) {
-  if (EndsWith(f.log, ".g2o")) return RunPoseGraphReplay(f);
+  if (EndsWith(f.log, ".g2o")) {
+    if (!f.bop_out.empty()) {
+      return Fail("--bop-out: a pose graph (.g2o) has no objects");
+    }
+    return RunPoseGraphReplay(f);
+  }
   symba::ReplayOptions options;
   options.backend = f.backend;
   symba::ParseMethod(f.method, &options.backend.method);
@@ -276,14 +331,16 @@ int RunReplay(const ReplayFlags& f) {
   symba::ReplayResult result;
   symba::Status status = symba::ReplayLog(f.log, options, &result);
   if (show_progress) std::fprintf(stderr, "\n");
+  std::vector<symba::BopResult> bop_rows;
+  if (status.ok()) status = RefinedBopRows(f, result, &bop_rows);
   if (status.ok()) {
     status = symba::WriteDirectoryAtomically(
         f.out, symba::ReplayOutputFiles(f.log, options, result));
   }
-  if (!status.ok()) {
-    std::fprintf(stderr, "symba replay: %s\n", status.message().c_str());
-    return 1;
+  if (status.ok() && !f.bop_out.empty()) {
+    status = symba::WriteBopResultsCsv(f.bop_out, bop_rows);
   }
+  if (!status.ok()) return Fail(status.message());
   return 0;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -375,6 +376,33 @@ TEST(BopClassNames, ParsesPairsAndRefusesOthers) {
   std::map<int, std::string> bad;
   EXPECT_EQ(ParseBopClassNames("ape", &bad).message(),
             "class names \"ape\": expected obj_id=name pairs, got \"ape\"");
+}
+
+// The header's "bop" key records where the log came from: the scene and
+// the obj_id of every class (rows and models_info), for replay --bop-out.
+TEST_F(BopImportTest, HeaderRecordsTheSceneAndEachClassObjId) {
+  options_.class_names = {{1, "mug"}};
+  options_.models_info =
+      Write("models_info.json", R"({"5": {"diameter": 100}, "1": {}})");
+  LogHeader header;
+  std::vector<KeyframeInput> keyframes;
+  ASSERT_TRUE(ImportBop(options_, &header, &keyframes, nullptr).ok());
+  ASSERT_TRUE(header.bop.has_value());
+  EXPECT_EQ(header.bop->scene_id, 7);
+  EXPECT_EQ(
+      header.bop->obj_ids,
+      (std::map<std::string, int>{{"mug", 1}, {"obj_2", 2}, {"obj_5", 5}}));
+
+  options_.scene = 8;  // a scene without rows: its id all the same
+  ASSERT_TRUE(ImportBop(options_, &header, &keyframes, nullptr).ok());
+  EXPECT_EQ(header.bop->scene_id, 8);
+}
+
+TEST_F(BopImportTest, TwoObjIdsOfOneClassNameAreRefused) {
+  options_.class_names = {{1, "box"}, {2, "box"}};
+  EXPECT_EQ(Failure(),
+            "class names: obj_ids 1 and 2 are both named \"box\"; a class "
+            "maps to one BOP obj_id");
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <memory>
 #include <random>
 #include <sstream>
@@ -525,6 +526,18 @@ const MalformedCase kMalformedCases[] = {
      "1: classes.bowl.symmetry: unknown symmetry \"round\" (expected \"asymmetric\", \"discrete\" or \"continuous\")"},
     {"header_class_discrete_without_order",
      "1: classes.table.order: missing (a discrete class needs its symmetry order, an integer >= 2)"},
+    {"header_bop_not_object",
+     "1: bop: expected an object, got an array"},
+    {"header_bop_missing_scene_id",
+     "1: bop.scene_id: missing (the BOP scene id, an integer >= 0)"},
+    {"header_bop_scene_id_negative",
+     "1: bop.scene_id: must be a non-negative integer, got -1"},
+    {"header_bop_missing_obj_ids",
+     "1: bop.obj_ids: missing (the BOP obj_id of each class, {\"<class>\": id, ...})"},
+    {"header_bop_obj_id_string",
+     "1: bop.obj_ids.table: expected an integer, got the string \"1\""},
+    {"header_bop_obj_id_fraction",
+     "1: bop.obj_ids.table: expected an integer, got 1.5"},
     {"header_class_order_1",
      "1: classes.table.order: must be an integer from 2 to 1000000, got 1"},
     {"header_class_order_not_discrete",
@@ -693,6 +706,68 @@ TEST(LogWriter, RefusesAnInvalidHeader) {
   header.camera = PinholeIntrinsics{-1.0, 1.0, 0.0, 0.0};
   EXPECT_EQ(LogWriter::OpenStream(&text, "out", header, &writer).message(),
             "out: header: camera.fx: must be positive, got -1");
+}
+
+// The optional "bop" key (written by symba import bop): its exact text,
+// read back equal; absent, it stays absent.
+TEST(LogHeaderBop, WritesItsTextAndReadsBackEqual) {
+  LogHeader header;
+  header.bop = BopSource{7, {{"table", 1}, {"mug", 2}}};
+  std::ostringstream text;
+  std::unique_ptr<LogWriter> writer;
+  ASSERT_TRUE(LogWriter::OpenStream(&text, "out", header, &writer).ok());
+  ASSERT_TRUE(writer->Close().ok());
+  EXPECT_EQ(text.str(),
+            "{\"format\":\"symba-log\",\"version\":1,\"bop\":{\"scene_id\":7,"
+            "\"obj_ids\":{\"mug\":2,\"table\":1}}}\n");
+  std::unique_ptr<LogReader> reader;
+  const Status status = LogReader::OpenStream(
+      std::make_unique<std::istringstream>(text.str()), "in", &reader);
+  ASSERT_TRUE(status.ok()) << status.message();
+  ASSERT_TRUE(reader->header().bop.has_value());
+  EXPECT_EQ(reader->header().bop->scene_id, 7);
+  EXPECT_EQ(reader->header().bop->obj_ids,
+            (std::map<std::string, int>{{"mug", 2}, {"table", 1}}));
+
+  ASSERT_TRUE(LogReader::OpenStream(
+                  std::make_unique<std::istringstream>(
+                      "{\"format\": \"symba-log\", \"version\": 1}\n"),
+                  "in",
+                  &reader)
+                  .ok());
+  EXPECT_FALSE(reader->header().bop.has_value());
+}
+
+TEST(LogHeaderBop, ReaderTakesAnEmptyMapAndTheLastRepeatedKey) {
+  std::unique_ptr<LogReader> reader;
+  const Status status = LogReader::OpenStream(
+      std::make_unique<std::istringstream>(
+          "{\"format\": \"symba-log\", \"version\": 1, \"bop\": "
+          "{\"scene_id\": 3.0, \"obj_ids\": {\"a\": 1, \"a\": 4}}}\n"),
+      "in",
+      &reader);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(reader->header().bop->scene_id, 3);
+  EXPECT_EQ(reader->header().bop->obj_ids,
+            (std::map<std::string, int>{{"a", 4}}));
+}
+
+TEST(LogHeaderBop, WriterRefusesNegativeIdsAndBadNames) {
+  std::ostringstream text;
+  std::unique_ptr<LogWriter> writer;
+  LogHeader header;
+  header.bop = BopSource{-1, {}};
+  EXPECT_EQ(
+      LogWriter::OpenStream(&text, "out", header, &writer).message(),
+      "out: header: bop.scene_id: must be a non-negative integer, got -1");
+  header.bop = BopSource{0, {{"table", -2}}};
+  EXPECT_EQ(LogWriter::OpenStream(&text, "out", header, &writer).message(),
+            "out: header: bop.obj_ids.table: must be a non-negative integer, "
+            "got -2");
+  header.bop = BopSource{0, {{"\xff", 1}}};
+  EXPECT_EQ(LogWriter::OpenStream(&text, "out", header, &writer).message(),
+            "out: header: bop.obj_ids.\xff: class name is not UTF-8");
+  EXPECT_EQ(writer, nullptr);
 }
 
 // 20000 keyframes through the streaming reader; the reader keeps one line.

@@ -20,6 +20,12 @@ Status WriteDirectoryAtomically(
     const std::string& dir,
     const std::vector<std::pair<std::string, std::string>>& files);
 
+// Writes `content` to the file `path` atomically: into a temporary sibling
+// that is renamed onto `path` when complete. On failure the temporary file
+// is removed and an existing `path` is untouched. Errors read "PATH: cannot
+// write (reason)" or "PATH: cannot rename into place (reason)".
+Status WriteFileAtomically(const std::string& path, const std::string& content);
+
 }  // namespace symba
 
 #endif  // SYMBA_IO_FILE_OUTPUT_H_

@@ -38,10 +38,20 @@ namespace symba {
 
 inline constexpr int kLogFormatVersion = 1;
 
+// Where a log converted from BOP files came from: the optional header key
+// "bop" ({"scene_id": 7, "obj_ids": {"table": 1}}, docs/log-format.md),
+// written by `symba import bop` so that `symba replay --bop-out` can write
+// the refined poses back with the BOP ids. Other readers ignore it.
+struct BopSource {
+  int scene_id = 0;                    // >= 0
+  std::map<std::string, int> obj_ids;  // class name -> BOP obj_id (>= 0)
+};
+
 struct LogHeader {
   int version = kLogFormatVersion;
   std::optional<PinholeIntrinsics> camera;
   std::map<std::string, ClassPrior> classes;
+  std::optional<BopSource> bop;
 };
 
 // Reads a log keyframe by keyframe; memory does not grow with the file.

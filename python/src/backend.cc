@@ -238,11 +238,7 @@ void BindBackend(py::module_& m) {
             "arguments and errors as Keyframe.from_arrays).");
       },
       [](Backend& backend, const KeyframeArrays& arrays) {
-        // Refilled call after call, so that its vectors and strings keep
-        // their capacity and a keyframe allocates no input once the
-        // largest has been seen; one buffer serves every backend, since
-        // the GIL is held throughout.
-        static KeyframeInput keyframe;
+        KeyframeInput keyframe;
         FillKeyframe(arrays, keyframe);
         std::vector<DetectionAssignment> assignments;
         ThrowIfError(backend.AddKeyframe(keyframe, &assignments));

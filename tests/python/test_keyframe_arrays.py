@@ -97,9 +97,10 @@ def test_add_keyframe_arrays_equals_add_keyframe(simulated_log):
 
 
 def test_add_keyframe_arrays_forgets_the_previous_keyframe(simulated_log):
-    """add_keyframe_arrays refills one buffer keyframe after keyframe: a
-    keyframe without weights, detection ids, scores or sigmas after one with
-    them gets the defaults, as a Keyframe.from_arrays built anew does."""
+    """A keyframe without weights, detection ids, scores or sigmas after
+    one with them gets the defaults in add_keyframe_arrays, as in a
+    Keyframe.from_arrays built anew (FillKeyframe overwrites every field,
+    should a buffer ever be refilled)."""
     header, keyframes = symba.read_log(str(simulated_log))
     assert any(d.id for k in keyframes for d in k.detections)
     optional = {"weights", "detection_ids", "scores", "detection_sigma_t",

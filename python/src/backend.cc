@@ -228,53 +228,23 @@ void BindBackend(py::module_& m) {
           "options",
           [](const Backend& backend) { return backend.options(); },
           "A copy of the options.");
-  WithKeyframeArrayArgs([&](auto... args) {
-    backend_class.def(
-        "add_keyframe_arrays",
-        [](Backend& backend,
-           std::int64_t id,
-           double timestamp,
-           const py::object& T_wc,
-           const py::object& odometry,
-           std::optional<double> odometry_sigma_t,
-           std::optional<double> odometry_sigma_r,
-           const py::object& hypotheses,
-           const py::object& counts,
-           const py::object& weights,
-           const py::object& class_names,
-           const py::object& detection_ids,
-           const py::object& scores,
-           const py::object& detection_sigma_t,
-           const py::object& detection_sigma_r,
-           const py::object& point_ids,
-           const py::object& point_uv,
-           const py::object& point_depth) {
-          const KeyframeInput keyframe = KeyframeFromArrays(id,
-                                                            timestamp,
-                                                            T_wc,
-                                                            odometry,
-                                                            odometry_sigma_t,
-                                                            odometry_sigma_r,
-                                                            hypotheses,
-                                                            counts,
-                                                            weights,
-                                                            class_names,
-                                                            detection_ids,
-                                                            scores,
-                                                            detection_sigma_t,
-                                                            detection_sigma_r,
-                                                            point_ids,
-                                                            point_uv,
-                                                            point_depth);
-          std::vector<DetectionAssignment> assignments;
-          ThrowIfError(backend.AddKeyframe(keyframe, &assignments));
-          return assignments;
-        },
-        args...,
-        "add_keyframe(Keyframe.from_arrays(...)) in one call: the "
-        "keyframe's arrays are converted in C++ and added (the same "
-        "arguments and errors as Keyframe.from_arrays).");
-  });
+  DefWithKeyframeArrays<Backend&>(
+      [&](auto function, auto... args) {
+        backend_class.def(
+            "add_keyframe_arrays",
+            function,
+            args...,
+            "add_keyframe(Keyframe.from_arrays(...)) in one call: the "
+            "keyframe's arrays are converted in C++ and added (the same "
+            "arguments and errors as Keyframe.from_arrays).");
+      },
+      [](Backend& backend, const KeyframeArrays& arrays) {
+        KeyframeInput keyframe;
+        FillKeyframe(arrays, keyframe);
+        std::vector<DetectionAssignment> assignments;
+        ThrowIfError(backend.AddKeyframe(keyframe, &assignments));
+        return assignments;
+      });
 }
 
 }  // namespace symba::python

@@ -165,10 +165,9 @@ void CheckFinite(const py::array& array, const std::string& name) {
   // below finds the bad element's index.
   if (array.flags() & py::array::c_style) {
     const double* data = static_cast<const double*>(array.data());
+    const py::ssize_t size = array.size();
     bool finite = true;
-    for (py::ssize_t n = 0; n < array.size(); ++n) {
-      finite = finite && std::isfinite(data[n]);
-    }
+    for (py::ssize_t n = 0; n < size; ++n) finite &= std::isfinite(data[n]);
     if (finite) return;
   }
   ForEachDouble(

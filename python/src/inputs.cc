@@ -16,11 +16,12 @@
 namespace symba::python {
 namespace {
 
-std::vector<double> WeightsFromPython(const py::object& value,
+// The weights (H,) of H hypotheses, checked; nullopt for None (all 1).
+std::optional<py::array> WeightsArray(const py::object& value,
                                       size_t count,
-                                      const std::string& name) {
-  if (value.is_none()) return std::vector<double>(count, 1.0);
-  const py::array array = Float64Array(value, name);
+                                      const char* name) {
+  if (value.is_none()) return std::nullopt;
+  py::array array = Float64Array(value, name);
   if (array.ndim() != 1 || static_cast<size_t>(array.shape(0)) != count) {
     ThrowValueError(name,
                     "expected shape (" + std::to_string(count) +
@@ -28,7 +29,15 @@ std::vector<double> WeightsFromPython(const py::object& value,
                         ShapeString(array));
   }
   CheckFinite(array, name);
-  const auto w = array.unchecked<double, 1>();
+  return array;
+}
+
+std::vector<double> WeightsFromPython(const py::object& value,
+                                      size_t count,
+                                      const char* name) {
+  const std::optional<py::array> array = WeightsArray(value, count, name);
+  if (!array) return std::vector<double>(count, 1.0);
+  const auto w = array->unchecked<double, 1>();
   std::vector<double> weights(count);
   for (size_t i = 0; i < count; ++i) weights[i] = w(i);
   return weights;
@@ -130,22 +139,25 @@ std::optional<py::array> PerDetection(const py::object& value,
 }
 
 // Sets `field` of every detection from a list (or tuple) of str, one per
-// detection; None leaves them empty unless `required`.
+// detection; None sets them empty unless `required`.
 void SetStrings(const py::object& value,
                 std::vector<DetectionInput>& detections,
                 std::string DetectionInput::*field,
                 const char* name,
                 bool required) {
-  const std::string count = std::to_string(detections.size());
+  const auto count = [&] { return std::to_string(detections.size()); };
   if (value.is_none()) {
-    if (!required || detections.empty()) return;
+    if (!required || detections.empty()) {
+      for (DetectionInput& detection : detections) (detection.*field).clear();
+      return;
+    }
     ThrowValueError(
         name,
-        "expected a list of " + count + " str, one per detection, got None");
+        "expected a list of " + count() + " str, one per detection, got None");
   }
   if (PyUnicode_Check(value.ptr()) || PyBytes_Check(value.ptr())) {
     ThrowValueError(name,
-                    "expected a list of " + count +
+                    "expected a list of " + count() +
                         " str, one per detection, got a single " +
                         Py_TYPE(value.ptr())->tp_name);
   }
@@ -154,14 +166,14 @@ void SetStrings(const py::object& value,
   if (!items) {
     PyErr_Clear();
     ThrowValueError(name,
-                    "expected a list of " + count +
+                    "expected a list of " + count() +
                         " str, one per detection, got " +
                         Py_TYPE(value.ptr())->tp_name);
   }
   const py::ssize_t n = PySequence_Fast_GET_SIZE(items.ptr());
   if (static_cast<size_t>(n) != detections.size()) {
     ThrowValueError(name,
-                    "expected " + count + " str, one per detection, got " +
+                    "expected " + count() + " str, one per detection, got " +
                         std::to_string(n));
   }
   PyObject** item = PySequence_Fast_ITEMS(items.ptr());
@@ -178,110 +190,130 @@ void SetStrings(const py::object& value,
   }
 }
 
-// The detections from the stacked hypotheses (H, 7) or (H, 4, 4), the
-// hypothesis count of each detection (D,) and the per-detection values.
-void SetDetections(KeyframeInput& keyframe,
-                   const py::object& hypotheses_value,
-                   const py::object& counts_value,
-                   const py::object& weights_value,
-                   const py::object& class_names,
-                   const py::object& detection_ids,
-                   const py::object& scores_value,
-                   const py::object& sigma_t_value,
-                   const py::object& sigma_r_value) {
-  keyframe.detections.clear();
-  if (hypotheses_value.is_none() != counts_value.is_none()) {
+// The stacked hypotheses (H, 7) or (H, 4, 4): a C-contiguous (H, 7) array
+// (the usual case) is read in place (`rows`), anything else (strided
+// views, (H, 4, 4)) through PosesFromPython (`poses`).
+struct StackedHypotheses {
+  py::array array;
+  const double* rows = nullptr;
+  std::vector<Rigid3d> poses;
+  py::ssize_t size = 0;
+
+  Rigid3d operator[](py::ssize_t i) const {
+    if (rows == nullptr) return poses[i];
+    // [tx, ty, tz, qx, qy, qz, qw]; Eigen's constructor takes w first.
+    const double* r = rows + 7 * i;
+    Rigid3d pose;
+    pose.t = Eigen::Vector3d(r[0], r[1], r[2]);
+    pose.q = Eigen::Quaterniond(r[6], r[3], r[4], r[5]);
+    return pose;
+  }
+};
+
+StackedHypotheses ReadHypotheses(const py::object& value) {
+  StackedHypotheses stacked;
+  stacked.array = Float64Array(value, "hypotheses");
+  const py::array& array = stacked.array;
+  if (array.ndim() == 2 && array.shape(1) == 7 &&
+      (array.flags() & py::array::c_style)) {
+    CheckFinite(array, "hypotheses");
+    stacked.rows = static_cast<const double*>(array.data());
+    stacked.size = array.shape(0);
+  } else {
+    stacked.poses = PosesFromPython(array, "hypotheses");
+    stacked.size = static_cast<py::ssize_t>(stacked.poses.size());
+  }
+  return stacked;
+}
+
+// The hypothesis count of each detection, (D,) int64 adding up to `h`.
+py::array ReadCounts(const py::object& value, py::ssize_t h) {
+  py::array counts = Int64Array(value, "counts");
+  if (counts.ndim() != 1) {
+    ThrowValueError("counts",
+                    "expected shape (D,), one hypothesis count per "
+                    "detection, got shape " +
+                        ShapeString(counts));
+  }
+  const auto c = counts.unchecked<std::int64_t, 1>();
+  std::int64_t total = 0;
+  for (py::ssize_t i = 0; i < c.shape(0); ++i) {
+    if (c(i) < 0) {
+      ThrowValueError("counts[" + std::to_string(i) + "]",
+                      "expected a count >= 0, got " + std::to_string(c(i)));
+    }
+    total += c(i);
+  }
+  if (total != h) {
+    ThrowValueError("counts",
+                    "the counts add up to " + std::to_string(total) +
+                        ", but hypotheses has " + std::to_string(h) + " rows");
+  }
+  return counts;
+}
+
+// Entry i of a (N,) array, or `fallback` without the array.
+double EntryOr(const std::optional<py::array>& array,
+               py::ssize_t i,
+               double fallback) {
+  return array ? array->unchecked<double, 1>()(i) : fallback;
+}
+
+// A sigma of detection i: none when not given or 0.
+std::optional<double> DetectionSigma(const std::optional<py::array>& array,
+                                     py::ssize_t i) {
+  const double sigma = EntryOr(array, i, 0.0);
+  if (sigma == 0.0) return std::nullopt;
+  return sigma;
+}
+
+// The detections from the stacked hypotheses, the hypothesis count of each
+// detection (D,) and the per-detection values; every field of every
+// detection is overwritten.
+void SetDetections(const KeyframeArrays& arrays,
+                   std::vector<DetectionInput>& detections) {
+  if (arrays.hypotheses.is_none() != arrays.counts.is_none()) {
     throw py::value_error(
         "hypotheses, counts: give both (with class_names) or neither");
   }
-  // A C-contiguous (H, 7) array (the usual case) is read in place;
-  // anything else (strided views, (H, 4, 4)) through PosesFromPython.
-  const double* rows = nullptr;
-  std::vector<Rigid3d> poses;
-  py::ssize_t h = 0;
-  py::ssize_t d = 0;
+  StackedHypotheses stacked;
   std::optional<py::array> counts;
-  if (!hypotheses_value.is_none()) {
-    const py::array array = Float64Array(hypotheses_value, "hypotheses");
-    if (array.ndim() == 2 && array.shape(1) == 7 &&
-        (array.flags() & py::array::c_style)) {
-      CheckFinite(array, "hypotheses");
-      rows = static_cast<const double*>(array.data());
-      h = array.shape(0);
-    } else {
-      poses = PosesFromPython(array, "hypotheses");
-      h = static_cast<py::ssize_t>(poses.size());
-    }
-    counts = Int64Array(counts_value, "counts");
-    if (counts->ndim() != 1) {
-      ThrowValueError("counts",
-                      "expected shape (D,), one hypothesis count per "
-                      "detection, got shape " +
-                          ShapeString(*counts));
-    }
-    d = counts->shape(0);
-    const auto c = counts->unchecked<std::int64_t, 1>();
-    std::int64_t total = 0;
-    for (py::ssize_t i = 0; i < d; ++i) {
-      if (c(i) < 0) {
-        ThrowValueError("counts[" + std::to_string(i) + "]",
-                        "expected a count >= 0, got " + std::to_string(c(i)));
-      }
-      total += c(i);
-    }
-    if (total != h) {
-      ThrowValueError("counts",
-                      "the counts add up to " + std::to_string(total) +
-                          ", but hypotheses has " + std::to_string(h) +
-                          " rows");
-    }
+  if (!arrays.hypotheses.is_none()) {
+    stacked = ReadHypotheses(arrays.hypotheses);
+    counts = ReadCounts(arrays.counts, stacked.size);
   }
-  const std::vector<double> weights =
-      WeightsFromPython(weights_value, static_cast<size_t>(h), "weights");
-  keyframe.detections.resize(d);
-  SetStrings(class_names,
-             keyframe.detections,
+  const std::optional<py::array> weights = WeightsArray(
+      arrays.weights, static_cast<size_t>(stacked.size), "weights");
+  const py::ssize_t d = counts ? counts->shape(0) : 0;
+  detections.resize(d);
+  SetStrings(arrays.class_names,
+             detections,
              &DetectionInput::class_name,
              "class_names",
              true);
-  SetStrings(detection_ids,
-             keyframe.detections,
+  SetStrings(arrays.detection_ids,
+             detections,
              &DetectionInput::id,
              "detection_ids",
              false);
   const std::optional<py::array> scores =
-      PerDetection(scores_value, d, "scores", "score");
-  const std::optional<py::array> sigma_t =
-      PerDetection(sigma_t_value, d, "detection_sigma_t", "sigma (0: none)");
-  const std::optional<py::array> sigma_r =
-      PerDetection(sigma_r_value, d, "detection_sigma_r", "sigma (0: none)");
-  size_t next = 0;
+      PerDetection(arrays.scores, d, "scores", "score");
+  const std::optional<py::array> sigma_t = PerDetection(
+      arrays.detection_sigma_t, d, "detection_sigma_t", "sigma (0: none)");
+  const std::optional<py::array> sigma_r = PerDetection(
+      arrays.detection_sigma_r, d, "detection_sigma_r", "sigma (0: none)");
+  py::ssize_t next = 0;
   for (py::ssize_t i = 0; i < d; ++i) {
-    DetectionInput& detection = keyframe.detections[i];
-    const size_t n =
-        static_cast<size_t>(counts->unchecked<std::int64_t, 1>()(i));
-    detection.hypotheses.resize(n);
-    for (size_t j = 0; j < n; ++j, ++next) {
-      PoseHypothesis& hypothesis = detection.hypotheses[j];
-      if (rows != nullptr) {
-        // [tx, ty, tz, qx, qy, qz, qw]; Eigen's constructor takes w first.
-        const double* r = rows + 7 * next;
-        hypothesis.T_co.t = Eigen::Vector3d(r[0], r[1], r[2]);
-        hypothesis.T_co.q = Eigen::Quaterniond(r[6], r[3], r[4], r[5]);
-      } else {
-        hypothesis.T_co = poses[next];
-      }
-      hypothesis.weight = weights[next];
+    DetectionInput& detection = detections[i];
+    detection.hypotheses.resize(counts->unchecked<std::int64_t, 1>()(i));
+    for (PoseHypothesis& hypothesis : detection.hypotheses) {
+      hypothesis.T_co = stacked[next];
+      hypothesis.weight = EntryOr(weights, next, 1.0);
+      ++next;
     }
-    if (scores) detection.score = scores->unchecked<double, 1>()(i);
-    if (sigma_t) {
-      const double s = sigma_t->unchecked<double, 1>()(i);
-      if (s != 0.0) detection.sigma_t = s;
-    }
-    if (sigma_r) {
-      const double s = sigma_r->unchecked<double, 1>()(i);
-      if (s != 0.0) detection.sigma_r = s;
-    }
+    detection.score = EntryOr(scores, i, 1.0);
+    detection.sigma_t = DetectionSigma(sigma_t, i);
+    detection.sigma_r = DetectionSigma(sigma_r, i);
   }
 }
 
@@ -470,77 +502,67 @@ void BindKeyframe(py::module_& m) {
                std::to_string(k.detections.size()) + " detections, " +
                std::to_string(k.points.size()) + " points)";
       });
-  WithKeyframeArrayArgs([&](auto... args) {
-    keyframe_class.def_static(
-        "from_arrays",
-        &KeyframeFromArrays,
-        args...,
-        "The whole keyframe in one call: hypotheses (H, 7) or (H, 4, 4) "
-        "stacked over the detections, counts (D,) int64 hypotheses per "
-        "detection, weights (H,) (default 1), class_names and "
-        "detection_ids lists of D str, scores, detection_sigma_t and "
-        "detection_sigma_r (D,) (0: the options' default); odometry an "
-        "Odometry or a T_prev_cur pose with odometry_sigma_t/_r.");
-  });
+  DefWithKeyframeArrays(
+      [&](auto function, auto... args) {
+        keyframe_class.def_static(
+            "from_arrays",
+            function,
+            args...,
+            "The whole keyframe in one call: hypotheses (H, 7) or (H, 4, 4) "
+            "stacked over the detections, counts (D,) int64 hypotheses per "
+            "detection, weights (H,) (default 1), class_names and "
+            "detection_ids lists of D str, scores, detection_sigma_t and "
+            "detection_sigma_r (D,) (0: the options' default); odometry an "
+            "Odometry or a T_prev_cur pose with odometry_sigma_t/_r.");
+      },
+      [](const KeyframeArrays& arrays) {
+        KeyframeInput keyframe;
+        FillKeyframe(arrays, keyframe);
+        return keyframe;
+      });
+}
+
+// The odometry: an Odometry, or a T_prev_cur pose with optional sigmas.
+std::optional<Odometry> OdometryFromArrays(const KeyframeArrays& arrays) {
+  const bool sigmas = arrays.odometry_sigma_t || arrays.odometry_sigma_r;
+  if (arrays.odometry.is_none()) {
+    if (!sigmas) return std::nullopt;
+    throw py::value_error(
+        "odometry_sigma_t, odometry_sigma_r: given without odometry");
+  }
+  if (py::isinstance<Odometry>(arrays.odometry)) {
+    if (sigmas) {
+      throw py::value_error(
+          "odometry_sigma_t, odometry_sigma_r: give them only with an "
+          "odometry array (an Odometry has its own sigmas)");
+    }
+    return arrays.odometry.cast<Odometry>();
+  }
+  Odometry odometry;
+  odometry.T_prev_cur = PoseFromPython(arrays.odometry, "odometry");
+  if (arrays.odometry_sigma_t) {
+    odometry.sigma_t =
+        *OptionalFinite(arrays.odometry_sigma_t, "odometry_sigma_t");
+  }
+  if (arrays.odometry_sigma_r) {
+    odometry.sigma_r =
+        *OptionalFinite(arrays.odometry_sigma_r, "odometry_sigma_r");
+  }
+  return odometry;
 }
 
 }  // namespace
 
-KeyframeInput KeyframeFromArrays(std::int64_t id,
-                                 double timestamp,
-                                 const py::object& T_wc,
-                                 const py::object& odometry,
-                                 std::optional<double> odometry_sigma_t,
-                                 std::optional<double> odometry_sigma_r,
-                                 const py::object& hypotheses,
-                                 const py::object& counts,
-                                 const py::object& weights,
-                                 const py::object& class_names,
-                                 const py::object& detection_ids,
-                                 const py::object& scores,
-                                 const py::object& detection_sigma_t,
-                                 const py::object& detection_sigma_r,
-                                 const py::object& point_ids,
-                                 const py::object& point_uv,
-                                 const py::object& point_depth) {
-  KeyframeInput keyframe;
-  keyframe.id = id;
-  keyframe.timestamp = *OptionalFinite(timestamp, "timestamp");
-  if (!T_wc.is_none()) keyframe.T_wc = PoseFromPython(T_wc, "T_wc");
-  if (!odometry.is_none()) {
-    if (py::isinstance<Odometry>(odometry)) {
-      if (odometry_sigma_t || odometry_sigma_r) {
-        throw py::value_error(
-            "odometry_sigma_t, odometry_sigma_r: give them only with an "
-            "odometry array (an Odometry has its own sigmas)");
-      }
-      keyframe.odometry = odometry.cast<Odometry>();
-    } else {
-      Odometry o;
-      o.T_prev_cur = PoseFromPython(odometry, "odometry");
-      if (odometry_sigma_t) {
-        o.sigma_t = *OptionalFinite(odometry_sigma_t, "odometry_sigma_t");
-      }
-      if (odometry_sigma_r) {
-        o.sigma_r = *OptionalFinite(odometry_sigma_r, "odometry_sigma_r");
-      }
-      keyframe.odometry = o;
-    }
-  } else if (odometry_sigma_t || odometry_sigma_r) {
-    throw py::value_error(
-        "odometry_sigma_t, odometry_sigma_r: given without odometry");
+void FillKeyframe(const KeyframeArrays& arrays, KeyframeInput& keyframe) {
+  keyframe.id = arrays.id;
+  keyframe.timestamp = *OptionalFinite(arrays.timestamp, "timestamp");
+  keyframe.T_wc.reset();
+  if (!arrays.T_wc.is_none()) {
+    keyframe.T_wc = PoseFromPython(arrays.T_wc, "T_wc");
   }
-  SetDetections(keyframe,
-                hypotheses,
-                counts,
-                weights,
-                class_names,
-                detection_ids,
-                scores,
-                detection_sigma_t,
-                detection_sigma_r);
-  SetPoints(keyframe, point_ids, point_uv, point_depth);
-  return keyframe;
+  keyframe.odometry = OdometryFromArrays(arrays);
+  SetDetections(arrays, keyframe.detections);
+  SetPoints(keyframe, arrays.point_ids, arrays.point_uv, arrays.point_depth);
 }
 
 void BindInputs(py::module_& m) {

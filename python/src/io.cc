@@ -54,40 +54,48 @@ struct PyReplayResult {
   double seconds = 0.0;
 };
 
-TumImportOptions MakeImportOptions(
-    const std::string& trajectory,
-    const std::vector<std::pair<std::string, std::string>>& objects,
-    int stride,
-    double odometry_sigma_t,
-    double odometry_sigma_r,
-    const std::string& first_pose,
-    std::optional<double> detection_sigma_t,
-    std::optional<double> detection_sigma_r,
-    const std::map<std::string, ClassPrior>& classes) {
-  TumImportOptions options;
-  options.trajectory = trajectory;
-  for (const auto& [class_name, path] : objects) {
-    options.objects.push_back({class_name, path});
-  }
-  options.stride = stride;
-  options.odometry_sigma_t = odometry_sigma_t;
-  options.odometry_sigma_r = odometry_sigma_r;
-  options.first_pose = first_pose;
-  options.detection_sigma_t = detection_sigma_t;
-  options.detection_sigma_r = detection_sigma_r;
-  options.classes = classes;
-  return options;
+// Binds `f(lead..., const TumImportOptions&)` as the Python function that
+// `def(function, args...)` defines, with the importer's keyword arguments
+// after `lead_args` (import_tum and import_tum_to_log spell the same names
+// and defaults).
+template <typename... Lead, typename Def, typename F, typename... LeadArgs>
+void DefWithImportOptions(Def def, F f, LeadArgs... lead_args) {
+  def(
+      [f](Lead... lead,
+          const std::string& trajectory,
+          const std::vector<std::pair<std::string, std::string>>& objects,
+          int stride,
+          double odometry_sigma_t,
+          double odometry_sigma_r,
+          const std::string& first_pose,
+          std::optional<double> detection_sigma_t,
+          std::optional<double> detection_sigma_r,
+          const std::map<std::string, ClassPrior>& classes) {
+        TumImportOptions options;
+        options.trajectory = trajectory;
+        for (const auto& [class_name, path] : objects) {
+          options.objects.push_back({class_name, path});
+        }
+        options.stride = stride;
+        options.odometry_sigma_t = odometry_sigma_t;
+        options.odometry_sigma_r = odometry_sigma_r;
+        options.first_pose = first_pose;
+        options.detection_sigma_t = detection_sigma_t;
+        options.detection_sigma_r = detection_sigma_r;
+        options.classes = classes;
+        return f(std::forward<Lead>(lead)..., options);
+      },
+      lead_args...,
+      py::arg("trajectory"),
+      py::arg("objects"),
+      py::arg("stride") = 5,
+      py::arg("odometry_sigma_t") = 0.005,
+      py::arg("odometry_sigma_r") = 0.01,
+      py::arg("first_pose") = "",
+      py::arg("detection_sigma_t") = py::none(),
+      py::arg("detection_sigma_r") = py::none(),
+      py::arg("classes") = std::map<std::string, ClassPrior>());
 }
-
-// The importer's keyword arguments, shared by import_tum and
-// import_tum_to_log.
-#define SYMBA_IMPORT_ARGS                                             \
-  py::arg("trajectory"), py::arg("objects"),                          \
-      py::arg("stride") = 5, py::arg("odometry_sigma_t") = 0.005,     \
-      py::arg("odometry_sigma_r") = 0.01, py::arg("first_pose") = "", \
-      py::arg("detection_sigma_t") = py::none(),                      \
-      py::arg("detection_sigma_r") = py::none(),                      \
-      py::arg("classes") = std::map<std::string, ClassPrior>()
 
 void BindLogs(py::module_& m) {
   py::class_<LogHeader>(m,
@@ -242,65 +250,35 @@ void BindReplay(py::module_& m) {
 }
 
 void BindImport(py::module_& m) {
-  m.def(
-      "import_tum",
-      [](const std::string& trajectory,
-         const std::vector<std::pair<std::string, std::string>>& objects,
-         int stride,
-         double odometry_sigma_t,
-         double odometry_sigma_r,
-         const std::string& first_pose,
-         std::optional<double> detection_sigma_t,
-         std::optional<double> detection_sigma_r,
-         const std::map<std::string, ClassPrior>& classes) {
-        const TumImportOptions options = MakeImportOptions(trajectory,
-                                                           objects,
-                                                           stride,
-                                                           odometry_sigma_t,
-                                                           odometry_sigma_r,
-                                                           first_pose,
-                                                           detection_sigma_t,
-                                                           detection_sigma_r,
-                                                           classes);
+  DefWithImportOptions(
+      [&](auto function, auto... args) {
+        m.def("import_tum",
+              function,
+              args...,
+              "Imports a TUM trajectory and per-object TUM detection files "
+              "(objects: [(class_name, path)]) as `symba import tum` does; "
+              "returns (LogHeader, list[Keyframe]).");
+      },
+      [](const TumImportOptions& options) {
         LogHeader header;
         std::vector<KeyframeInput> keyframes;
         ThrowIfError(ImportTum(options, &header, &keyframes));
         return std::make_pair(std::move(header), std::move(keyframes));
+      });
+  DefWithImportOptions<const std::string&>(
+      [&](auto function, auto... args) {
+        m.def("import_tum_to_log",
+              function,
+              args...,
+              "import_tum, then writes the log atomically; returns "
+              "(keyframes, detections).");
       },
-      SYMBA_IMPORT_ARGS,
-      "Imports a TUM trajectory and per-object TUM detection files "
-      "(objects: [(class_name, path)]) as `symba import tum` does; returns "
-      "(LogHeader, list[Keyframe]).");
-
-  m.def(
-      "import_tum_to_log",
-      [](const std::string& log_path,
-         const std::string& trajectory,
-         const std::vector<std::pair<std::string, std::string>>& objects,
-         int stride,
-         double odometry_sigma_t,
-         double odometry_sigma_r,
-         const std::string& first_pose,
-         std::optional<double> detection_sigma_t,
-         std::optional<double> detection_sigma_r,
-         const std::map<std::string, ClassPrior>& classes) {
-        const TumImportOptions options = MakeImportOptions(trajectory,
-                                                           objects,
-                                                           stride,
-                                                           odometry_sigma_t,
-                                                           odometry_sigma_r,
-                                                           first_pose,
-                                                           detection_sigma_t,
-                                                           detection_sigma_r,
-                                                           classes);
+      [](const std::string& log_path, const TumImportOptions& options) {
         TumImportCounts counts;
         ThrowIfError(ImportTumToLog(options, log_path, &counts));
         return std::make_pair(counts.keyframes, counts.detections);
       },
-      py::arg("log_path"),
-      SYMBA_IMPORT_ARGS,
-      "import_tum, then writes the log atomically; returns (keyframes, "
-      "detections).");
+      py::arg("log_path"));
 
   m.def(
       "parse_class_prior",

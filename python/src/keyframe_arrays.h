@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <utility>
 
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -18,32 +19,80 @@ namespace symba::python {
 
 namespace py = pybind11;
 
-// Builds the keyframe; ValueError naming the argument for a wrong dtype,
-// shape, length or a non-finite number (inputs.cc).
-KeyframeInput KeyframeFromArrays(std::int64_t id,
-                                 double timestamp,
-                                 const py::object& T_wc,
-                                 const py::object& odometry,
-                                 std::optional<double> odometry_sigma_t,
-                                 std::optional<double> odometry_sigma_r,
-                                 const py::object& hypotheses,
-                                 const py::object& counts,
-                                 const py::object& weights,
-                                 const py::object& class_names,
-                                 const py::object& detection_ids,
-                                 const py::object& scores,
-                                 const py::object& detection_sigma_t,
-                                 const py::object& detection_sigma_r,
-                                 const py::object& point_ids,
-                                 const py::object& point_uv,
-                                 const py::object& point_depth);
+// The arguments of both functions, as Python passed them (None: not
+// given); docs/python.md, "A keyframe from arrays", says what each holds.
+struct KeyframeArrays {
+  std::int64_t id = 0;
+  double timestamp = 0.0;
+  py::object T_wc;
+  py::object odometry;
+  std::optional<double> odometry_sigma_t;
+  std::optional<double> odometry_sigma_r;
+  py::object hypotheses;
+  py::object counts;
+  py::object weights;
+  py::object class_names;
+  py::object detection_ids;
+  py::object scores;
+  py::object detection_sigma_t;
+  py::object detection_sigma_r;
+  py::object point_ids;
+  py::object point_uv;
+  py::object point_depth;
+};
 
-// Calls def(args...) with the py::arg list of KeyframeFromArrays (every
-// argument after `timestamp` keyword-only), so that both bindings of it
-// spell the same names and defaults.
-template <typename Def>
-void WithKeyframeArrayArgs(Def def) {
-  def(py::arg("id"),
+// Overwrites every field of `keyframe` from `arrays`, reusing the capacity
+// of its vectors and strings (a keyframe refilled keyframe after keyframe
+// allocates nothing once it has held the largest); ValueError naming the
+// argument for a wrong dtype, shape, length or a non-finite number
+// (inputs.cc). After an error `keyframe` holds a partial keyframe.
+void FillKeyframe(const KeyframeArrays& arrays, KeyframeInput& keyframe);
+
+// Binds `f(lead..., const KeyframeArrays&)` as the Python function that
+// `def(function, args...)` defines, with the arguments id, timestamp and
+// then the other fields of KeyframeArrays as keyword-only arguments
+// defaulting to None: both functions spell the same names and defaults.
+template <typename... Lead, typename Def, typename F>
+void DefWithKeyframeArrays(Def def, F f) {
+  def(
+      [f](Lead... lead,
+          std::int64_t id,
+          double timestamp,
+          py::object T_wc,
+          py::object odometry,
+          std::optional<double> odometry_sigma_t,
+          std::optional<double> odometry_sigma_r,
+          py::object hypotheses,
+          py::object counts,
+          py::object weights,
+          py::object class_names,
+          py::object detection_ids,
+          py::object scores,
+          py::object detection_sigma_t,
+          py::object detection_sigma_r,
+          py::object point_ids,
+          py::object point_uv,
+          py::object point_depth) {
+        return f(std::forward<Lead>(lead)...,
+                 KeyframeArrays{id,
+                                timestamp,
+                                std::move(T_wc),
+                                std::move(odometry),
+                                odometry_sigma_t,
+                                odometry_sigma_r,
+                                std::move(hypotheses),
+                                std::move(counts),
+                                std::move(weights),
+                                std::move(class_names),
+                                std::move(detection_ids),
+                                std::move(scores),
+                                std::move(detection_sigma_t),
+                                std::move(detection_sigma_r),
+                                std::move(point_ids),
+                                std::move(point_uv),
+                                std::move(point_depth)});
+      },
+      py::arg("id"),
       py::arg("timestamp"),
       py::kw_only(),
       py::arg("T_wc") = py::none(),

@@ -96,6 +96,33 @@ def test_add_keyframe_arrays_equals_add_keyframe(simulated_log):
         repr(o) for o in backends[0].objects()]
 
 
+def test_add_keyframe_arrays_forgets_the_previous_keyframe(simulated_log):
+    """A keyframe without weights, detection ids, scores or sigmas after
+    one with them gets the defaults in add_keyframe_arrays, as in a
+    Keyframe.from_arrays built anew (FillKeyframe overwrites every field,
+    should a buffer ever be refilled)."""
+    header, keyframes = symba.read_log(str(simulated_log))
+    assert any(d.id for k in keyframes for d in k.detections)
+    optional = {"weights", "detection_ids", "scores", "detection_sigma_t",
+                "detection_sigma_r"}
+    backends = [symba.Backend(intrinsics=header.camera,
+                              class_priors=header.classes)
+                for _ in range(2)]
+    for k, keyframe in enumerate(keyframes):
+        kwargs = arrays_of(keyframe)
+        if k % 2:
+            kwargs = {n: v for n, v in kwargs.items() if n not in optional}
+        want = backends[0].add_keyframe(symba.Keyframe.from_arrays(
+            keyframe.id, keyframe.timestamp, **kwargs))
+        got = backends[1].add_keyframe_arrays(keyframe.id, keyframe.timestamp,
+                                              **kwargs)
+        assert [repr(a) for a in got] == [repr(a) for a in want]
+        for backend in backends:
+            backend.optimize_window()
+    np.testing.assert_array_equal(backends[1].keyframes().poses,
+                                  backends[0].keyframes().poses)
+
+
 def test_from_arrays_equals_detections_built_one_by_one():
     rng = np.random.default_rng(7)
     q = rng.normal(size=(5, 4))

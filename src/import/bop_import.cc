@@ -207,6 +207,11 @@ struct RowsByImage {
         std::lower_bound(image_ids.begin(), image_ids.end(), im_id) -
         image_ids.begin());
   }
+  // How many rows an image of scene_camera.json has.
+  std::size_t Count(int im_id) const {
+    const std::size_t k = Image(im_id);
+    return begin[k + 1] - begin[k];
+  }
 };
 
 // Sorts the rows by image (a counting sort: no container per image); a row
@@ -323,6 +328,118 @@ std::vector<DetectionInput> Detections(const BopImportOptions& o,
   return detections;
 }
 
+// What ImportBop has read and checked; the keyframes are made from it one
+// at a time (MakeKeyframe), so the log can be written without holding them
+// all.
+struct BopScene {
+  std::vector<BopImage> images;
+  std::map<int, BopModel> models;
+  std::vector<BopResultRow> rows;
+  std::vector<ImagePose> poses;
+  RowsByImage rows_of;
+};
+
+Status CheckTimesIncrease(const BopImportOptions& options,
+                          const std::vector<ImagePose>& poses) {
+  for (std::size_t k = 1; k < poses.size(); ++k) {
+    if (!(poses[k].timestamp > poses[k - 1].timestamp)) {
+      return Status::Error(options.image_times + ": the times of images " +
+                           std::to_string(poses[k - 1].im_id) + " and " +
+                           std::to_string(poses[k].im_id) +
+                           " do not increase with the image id");
+    }
+  }
+  return Status::Ok();
+}
+
+// Reads and checks every input; fills every count of the report but the
+// detections.
+Status ReadScene(const BopImportOptions& options,
+                 BopScene* scene,
+                 BopImportReport* report) {
+  BopImportReport& r = *report;
+  Status status = CheckOptions(options);
+  std::vector<BopImage>& images = scene->images;
+  if (status.ok()) {
+    status = import_internal::ReadBopSceneCamera(options.scene_camera, &images);
+  }
+  std::map<int, BopModel>& models = scene->models;
+  if (status.ok() && !options.models_info.empty()) {
+    status = import_internal::ReadBopModelsInfo(options.models_info, &models);
+  }
+  std::vector<BopResultRow>& rows = scene->rows;
+  if (status.ok()) {
+    status =
+        import_internal::ReadBopResults(options.results, options.scene, &rows);
+  }
+  std::vector<ImagePose>& poses = scene->poses;
+  if (status.ok() && options.trajectory.empty()) {
+    status = PosesFromSceneCamera(options, images, &poses, &r);
+  } else if (status.ok()) {
+    std::vector<ImageTime> times;
+    status = import_internal::ReadImageTimes(options.image_times, &times);
+    if (status.ok()) {
+      status = PosesFromTrajectory(options, images, times, &poses, &r);
+    }
+  }
+  if (!status.ok()) return status;
+  if (poses.empty()) {
+    return Status::Error(options.scene_camera + ": no image with a pose");
+  }
+
+  status = SortRowsByImage(options, images, rows, &scene->rows_of);
+  if (status.ok()) status = CheckTimesIncrease(options, poses);
+  if (!status.ok()) return status;
+  r.rows = static_cast<int>(rows.size());
+  r.keyframes = static_cast<int>(poses.size());
+  std::size_t posed = 0;
+  for (const ImagePose& pose : poses) posed += scene->rows_of.Count(pose.im_id);
+  r.skipped_rows = static_cast<int>(rows.size() - posed);
+  return Status::Ok();
+}
+
+void MakeHeader(const BopImportOptions& options,
+                const BopScene& scene,
+                LogHeader* header,
+                BopImportReport* report) {
+  header->version = kLogFormatVersion;
+  header->camera = scene.images.front().camera;
+  header->classes.clear();
+  for (const auto& [obj_id, model] : scene.models) {
+    header->classes[ClassName(options, obj_id)] = model.prior;
+    if (!model.note.empty()) {
+      report->symmetry_notes.push_back("obj " + std::to_string(obj_id) + " (" +
+                                       ClassName(options, obj_id) +
+                                       "): " + model.note);
+    }
+  }
+}
+
+// The keyframe of scene.poses[p], counting its detections in the report.
+void MakeKeyframe(const BopImportOptions& options,
+                  const BopScene& scene,
+                  std::size_t p,
+                  KeyframeInput* kf,
+                  BopImportReport* report) {
+  const ImagePose& pose = scene.poses[p];
+  kf->id = pose.im_id;
+  kf->timestamp = pose.timestamp;
+  kf->T_wc = pose.T_wc;
+  kf->detections.clear();
+  const RowsByImage& rows_of = scene.rows_of;
+  const std::size_t k = rows_of.Image(pose.im_id);
+  const std::size_t count = rows_of.begin[k + 1] - rows_of.begin[k];
+  if (count > 0) {
+    kf->detections = Detections(options,
+                                scene.models,
+                                pose.im_id,
+                                scene.rows,
+                                &rows_of.order[rows_of.begin[k]],
+                                count);
+  }
+  report->detections += static_cast<int>(kf->detections.size());
+}
+
 }  // namespace
 
 Status ParseBopClassNames(const std::string& text,
@@ -359,93 +476,37 @@ Status ImportBop(const BopImportOptions& options,
   BopImportReport local;
   BopImportReport& r = report != nullptr ? *report : local;
   r = BopImportReport();
-  Status status = CheckOptions(options);
-  std::vector<BopImage> images;
-  if (status.ok()) {
-    status = import_internal::ReadBopSceneCamera(options.scene_camera, &images);
-  }
-  std::map<int, BopModel> models;
-  if (status.ok() && !options.models_info.empty()) {
-    status = import_internal::ReadBopModelsInfo(options.models_info, &models);
-  }
-  std::vector<BopResultRow> rows;
-  if (status.ok()) {
-    status =
-        import_internal::ReadBopResults(options.results, options.scene, &rows);
-  }
-  std::vector<ImagePose> poses;
-  if (status.ok() && options.trajectory.empty()) {
-    status = PosesFromSceneCamera(options, images, &poses, &r);
-  } else if (status.ok()) {
-    std::vector<ImageTime> times;
-    status = import_internal::ReadImageTimes(options.image_times, &times);
-    if (status.ok()) {
-      status = PosesFromTrajectory(options, images, times, &poses, &r);
-    }
-  }
+  BopScene scene;
+  const Status status = ReadScene(options, &scene, &r);
   if (!status.ok()) return status;
-  if (poses.empty()) {
-    return Status::Error(options.scene_camera + ": no image with a pose");
+  MakeHeader(options, scene, header, &r);
+  keyframes->assign(scene.poses.size(), KeyframeInput());
+  for (std::size_t p = 0; p < scene.poses.size(); ++p) {
+    MakeKeyframe(options, scene, p, &(*keyframes)[p], &r);
   }
-
-  RowsByImage rows_of;
-  status = SortRowsByImage(options, images, rows, &rows_of);
-  if (!status.ok()) return status;
-  r.rows = static_cast<int>(rows.size());
-
-  header->version = kLogFormatVersion;
-  header->camera = images.front().camera;
-  header->classes.clear();
-  for (const auto& [obj_id, model] : models) {
-    header->classes[ClassName(options, obj_id)] = model.prior;
-    if (!model.note.empty()) {
-      r.symmetry_notes.push_back("obj " + std::to_string(obj_id) + " (" +
-                                 ClassName(options, obj_id) +
-                                 "): " + model.note);
-    }
-  }
-  keyframes->clear();
-  std::size_t posed = 0;
-  for (const ImagePose& pose : poses) {
-    KeyframeInput kf;
-    kf.id = pose.im_id;
-    kf.timestamp = pose.timestamp;
-    kf.T_wc = pose.T_wc;
-    const std::size_t k = rows_of.Image(pose.im_id);
-    const std::size_t count = rows_of.begin[k + 1] - rows_of.begin[k];
-    if (count > 0) {
-      kf.detections = Detections(options,
-                                 models,
-                                 pose.im_id,
-                                 rows,
-                                 &rows_of.order[rows_of.begin[k]],
-                                 count);
-      posed += count;
-    }
-    r.detections += static_cast<int>(kf.detections.size());
-    keyframes->push_back(std::move(kf));
-  }
-  for (std::size_t k = 1; k < keyframes->size(); ++k) {
-    if (!((*keyframes)[k].timestamp > (*keyframes)[k - 1].timestamp)) {
-      return Status::Error(options.image_times + ": the times of images " +
-                           std::to_string((*keyframes)[k - 1].id) + " and " +
-                           std::to_string((*keyframes)[k].id) +
-                           " do not increase with the image id");
-    }
-  }
-  r.keyframes = static_cast<int>(keyframes->size());
-  r.skipped_rows = static_cast<int>(rows.size() - posed);
   return Status::Ok();
 }
 
 Status ImportBopToLog(const BopImportOptions& options,
                       const std::string& log_path,
                       BopImportReport* report) {
-  LogHeader header;
-  std::vector<KeyframeInput> keyframes;
-  const Status status = ImportBop(options, &header, &keyframes, report);
+  BopImportReport local;
+  BopImportReport& r = report != nullptr ? *report : local;
+  r = BopImportReport();
+  BopScene scene;
+  const Status status = ReadScene(options, &scene, &r);
   if (!status.ok()) return status;
-  return WriteLogAtomically(log_path, header, keyframes);
+  LogHeader header;
+  MakeHeader(options, scene, &header, &r);
+  // One keyframe at a time: the 683,304 detections of the benchmark's
+  // 100 MB CSV held at once cost more in allocation than writing them.
+  KeyframeInput keyframe;
+  std::size_t p = 0;
+  return WriteLogAtomically(log_path, header, [&]() -> const KeyframeInput* {
+    if (p == scene.poses.size()) return nullptr;
+    MakeKeyframe(options, scene, p++, &keyframe, &r);
+    return &keyframe;
+  });
 }
 
 }  // namespace symba

@@ -3,10 +3,15 @@
 // vector: detectors write millions of rows.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <string>
 #include <string_view>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 #include <Eigen/Geometry>
 
@@ -121,6 +126,25 @@ Status ParseRow(const std::string& path,
   return Status::Ok();
 }
 
+// Asks Linux to back [data, data + bytes) with 2 MB pages where its
+// transparent huge pages are given only on request: the rows of a 100 MB
+// CSV fill ~60 MB, and faulting that in 4 kB pages cost a third of the
+// reading on a virtual machine. Advice only; nothing changes elsewhere.
+void AdviseHugePages(const void* data, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  constexpr std::uintptr_t kHuge = std::uintptr_t{1} << 21;
+  const std::uintptr_t start = reinterpret_cast<std::uintptr_t>(data);
+  const std::uintptr_t begin = (start + kHuge - 1) & ~(kHuge - 1);
+  const std::uintptr_t end = (start + bytes) & ~(kHuge - 1);
+  if (end > begin) {
+    ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+  }
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
+
 // The file's size, or 0 when unknown (a pipe).
 std::size_t FileSize(std::ifstream* in) {
   in->seekg(0, std::ios::end);
@@ -173,6 +197,7 @@ Status ReadBopResults(const std::string& path,
   rows->clear();
   // Rows are at least ~40 bytes; most are three times that.
   rows->reserve(FileSize(&in) / 120);
+  AdviseHugePages(rows->data(), rows->capacity() * sizeof(BopResultRow));
   bool first = true;
   std::optional<int> only_scene = scene;
   return ForEachLine(

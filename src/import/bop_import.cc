@@ -194,33 +194,127 @@ double Gate(const BopImportOptions& o,
   return kBopDefaultGate;
 }
 
-// The detections of one image from its rows (in file order).
+// The rows of each image, in file order within an image: rows
+// order[begin[k]] to order[begin[k + 1] - 1] are those of the image
+// image_ids[k].
+struct RowsByImage {
+  std::vector<int> image_ids;  // increasing
+  std::vector<std::size_t> begin;
+  std::vector<int> order;
+
+  // The index of an image of scene_camera.json.
+  std::size_t Image(int im_id) const {
+    return static_cast<std::size_t>(
+        std::lower_bound(image_ids.begin(), image_ids.end(), im_id) -
+        image_ids.begin());
+  }
+  // How many rows an image of scene_camera.json has.
+  std::size_t Count(int im_id) const {
+    const std::size_t k = Image(im_id);
+    return begin[k + 1] - begin[k];
+  }
+};
+
+// Sorts the rows by image (a counting sort: no container per image); a row
+// of an image not in scene_camera.json is an error.
+Status SortRowsByImage(const BopImportOptions& o,
+                       const std::vector<BopImage>& images,
+                       const std::vector<BopResultRow>& rows,
+                       RowsByImage* by) {
+  for (const BopImage& image : images) by->image_ids.push_back(image.im_id);
+  std::vector<std::size_t> image_of(rows.size());
+  by->begin.assign(images.size() + 1, 0);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const std::size_t k = by->Image(rows[i].im_id);
+    if (k == images.size() || by->image_ids[k] != rows[i].im_id) {
+      return Status::Error(internal::At(o.results, rows[i].line) + ": image " +
+                           std::to_string(rows[i].im_id) + " is not in " +
+                           o.scene_camera);
+    }
+    image_of[i] = k;
+    ++by->begin[k + 1];
+  }
+  for (std::size_t k = 0; k < images.size(); ++k) {
+    by->begin[k + 1] += by->begin[k];
+  }
+  std::vector<std::size_t> next(by->begin.begin(), by->begin.end() - 1);
+  by->order.resize(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    by->order[next[image_of[i]]++] = static_cast<int>(i);
+  }
+  return Status::Ok();
+}
+
+// An object seen in the image being grouped: its class name, gate and its
+// first and last detections (the detections of one object are chained in
+// order, so a row is compared only with the first rows of its object's).
+struct ImageObject {
+  int obj_id = 0;
+  std::string class_name;
+  double gate = 0.0;
+  int first = -1;
+  int last = -1;
+};
+
+// A detection being grouped: its first row's translation and the next
+// detection of the same object (-1: none).
+struct OpenDetection {
+  Eigen::Vector3d t;
+  int next = -1;
+};
+
+ImageObject* FindObject(const BopImportOptions& o,
+                        const std::map<int, BopModel>& models,
+                        int obj_id,
+                        std::vector<ImageObject>* objects) {
+  for (ImageObject& object : *objects) {
+    if (object.obj_id == obj_id) return &object;
+  }
+  objects->push_back({obj_id, ClassName(o, obj_id), Gate(o, models, obj_id)});
+  return &objects->back();
+}
+
+// The first detection of `object` whose first row is within the gate of
+// `t`, or -1.
+int Match(const ImageObject& object,
+          const std::vector<OpenDetection>& open,
+          const Eigen::Vector3d& t) {
+  for (int d = object.first; d >= 0; d = open[d].next) {
+    if ((open[d].t - t).norm() <= object.gate) return d;
+  }
+  return -1;
+}
+
+// The detections of one image from its rows `indices[0..count)` (in file
+// order).
 std::vector<DetectionInput> Detections(const BopImportOptions& o,
                                        const std::map<int, BopModel>& models,
                                        int im_id,
                                        const std::vector<BopResultRow>& rows,
-                                       const std::vector<int>& image_rows) {
+                                       const int* indices,
+                                       std::size_t count) {
   std::vector<DetectionInput> detections;
-  std::vector<const BopResultRow*> first;  // each detection's first row
+  detections.reserve(count);
+  std::vector<ImageObject> objects;
+  std::vector<OpenDetection> open;
   std::vector<bool> positive;
-  for (int index : image_rows) {
-    const BopResultRow& row = rows[index];
-    const double gate = Gate(o, models, row.obj_id);
-    std::size_t d = 0;
-    while (d < first.size() &&
-           !(first[d]->obj_id == row.obj_id &&
-             (first[d]->T_co.t - row.T_co.t).norm() <= gate)) {
-      ++d;
-    }
-    if (d == first.size()) {
+  for (std::size_t i = 0; i < count; ++i) {
+    const BopResultRow& row = rows[indices[i]];
+    ImageObject* object = FindObject(o, models, row.obj_id, &objects);
+    int d = Match(*object, open, row.T_co.t);
+    if (d < 0) {
+      d = static_cast<int>(detections.size());
       DetectionInput detection;
       detection.id = std::to_string(im_id) + "/" + std::to_string(d);
-      detection.class_name = ClassName(o, row.obj_id);
+      detection.class_name = object->class_name;
       detection.score = row.score;
       detection.sigma_t = o.detection_sigma_t;
       detection.sigma_r = o.detection_sigma_r;
       detections.push_back(std::move(detection));
-      first.push_back(&row);
+      open.push_back({row.T_co.t, -1});
+      if (object->last >= 0) open[object->last].next = d;
+      if (object->first < 0) object->first = d;
+      object->last = d;
       positive.push_back(true);
     }
     DetectionInput& detection = detections[d];
@@ -252,6 +346,119 @@ Status BopSourceOfImport(const BopImportOptions& o,
   if (!rows.empty()) row_scene = rows.front().scene_id;
   return import_internal::MakeBopSource(
       o.scene, row_scene, obj_ids, names, source);
+}
+
+// What ImportBop has read and checked; the keyframes are made from it one
+// at a time (MakeKeyframe), so the log can be written without holding them
+// all.
+struct BopScene {
+  std::vector<BopImage> images;
+  std::map<int, BopModel> models;
+  std::vector<BopResultRow> rows;
+  std::vector<ImagePose> poses;
+  RowsByImage rows_of;
+};
+
+Status CheckTimesIncrease(const BopImportOptions& options,
+                          const std::vector<ImagePose>& poses) {
+  for (std::size_t k = 1; k < poses.size(); ++k) {
+    if (!(poses[k].timestamp > poses[k - 1].timestamp)) {
+      return Status::Error(options.image_times + ": the times of images " +
+                           std::to_string(poses[k - 1].im_id) + " and " +
+                           std::to_string(poses[k].im_id) +
+                           " do not increase with the image id");
+    }
+  }
+  return Status::Ok();
+}
+
+// Reads and checks every input; fills every count of the report but the
+// detections.
+Status ReadScene(const BopImportOptions& options,
+                 BopScene* scene,
+                 BopImportReport* report) {
+  BopImportReport& r = *report;
+  Status status = CheckOptions(options);
+  std::vector<BopImage>& images = scene->images;
+  if (status.ok()) {
+    status = import_internal::ReadBopSceneCamera(options.scene_camera, &images);
+  }
+  std::map<int, BopModel>& models = scene->models;
+  if (status.ok() && !options.models_info.empty()) {
+    status = import_internal::ReadBopModelsInfo(options.models_info, &models);
+  }
+  std::vector<BopResultRow>& rows = scene->rows;
+  if (status.ok()) {
+    status =
+        import_internal::ReadBopResults(options.results, options.scene, &rows);
+  }
+  std::vector<ImagePose>& poses = scene->poses;
+  if (status.ok() && options.trajectory.empty()) {
+    status = PosesFromSceneCamera(options, images, &poses, &r);
+  } else if (status.ok()) {
+    std::vector<ImageTime> times;
+    status = import_internal::ReadImageTimes(options.image_times, &times);
+    if (status.ok()) {
+      status = PosesFromTrajectory(options, images, times, &poses, &r);
+    }
+  }
+  if (!status.ok()) return status;
+  if (poses.empty()) {
+    return Status::Error(options.scene_camera + ": no image with a pose");
+  }
+
+  status = SortRowsByImage(options, images, rows, &scene->rows_of);
+  if (status.ok()) status = CheckTimesIncrease(options, poses);
+  if (!status.ok()) return status;
+  r.rows = static_cast<int>(rows.size());
+  r.keyframes = static_cast<int>(poses.size());
+  std::size_t posed = 0;
+  for (const ImagePose& pose : poses) posed += scene->rows_of.Count(pose.im_id);
+  r.skipped_rows = static_cast<int>(rows.size() - posed);
+  return Status::Ok();
+}
+
+Status MakeHeader(const BopImportOptions& options,
+                  const BopScene& scene,
+                  LogHeader* header,
+                  BopImportReport* report) {
+  header->version = kLogFormatVersion;
+  header->camera = scene.images.front().camera;
+  header->classes.clear();
+  for (const auto& [obj_id, model] : scene.models) {
+    header->classes[ClassName(options, obj_id)] = model.prior;
+    if (!model.note.empty()) {
+      report->symmetry_notes.push_back("obj " + std::to_string(obj_id) + " (" +
+                                       ClassName(options, obj_id) +
+                                       "): " + model.note);
+    }
+  }
+  return BopSourceOfImport(options, scene.rows, scene.models, &header->bop);
+}
+
+// The keyframe of scene.poses[p], counting its detections in the report.
+void MakeKeyframe(const BopImportOptions& options,
+                  const BopScene& scene,
+                  std::size_t p,
+                  KeyframeInput* kf,
+                  BopImportReport* report) {
+  const ImagePose& pose = scene.poses[p];
+  kf->id = pose.im_id;
+  kf->timestamp = pose.timestamp;
+  kf->T_wc = pose.T_wc;
+  kf->detections.clear();
+  const RowsByImage& rows_of = scene.rows_of;
+  const std::size_t k = rows_of.Image(pose.im_id);
+  const std::size_t count = rows_of.begin[k + 1] - rows_of.begin[k];
+  if (count > 0) {
+    kf->detections = Detections(options,
+                                scene.models,
+                                pose.im_id,
+                                scene.rows,
+                                &rows_of.order[rows_of.begin[k]],
+                                count);
+  }
+  report->detections += static_cast<int>(kf->detections.size());
 }
 
 }  // namespace
@@ -290,99 +497,37 @@ Status ImportBop(const BopImportOptions& options,
   BopImportReport local;
   BopImportReport& r = report != nullptr ? *report : local;
   r = BopImportReport();
-  Status status = CheckOptions(options);
-  std::vector<BopImage> images;
-  if (status.ok()) {
-    status = import_internal::ReadBopSceneCamera(options.scene_camera, &images);
-  }
-  std::map<int, BopModel> models;
-  if (status.ok() && !options.models_info.empty()) {
-    status = import_internal::ReadBopModelsInfo(options.models_info, &models);
-  }
-  std::vector<BopResultRow> rows;
-  if (status.ok()) {
-    status =
-        import_internal::ReadBopResults(options.results, options.scene, &rows);
-  }
-  std::vector<ImagePose> poses;
-  if (status.ok() && options.trajectory.empty()) {
-    status = PosesFromSceneCamera(options, images, &poses, &r);
-  } else if (status.ok()) {
-    std::vector<ImageTime> times;
-    status = import_internal::ReadImageTimes(options.image_times, &times);
-    if (status.ok()) {
-      status = PosesFromTrajectory(options, images, times, &poses, &r);
-    }
-  }
+  BopScene scene;
+  Status status = ReadScene(options, &scene, &r);
+  if (status.ok()) status = MakeHeader(options, scene, header, &r);
   if (!status.ok()) return status;
-  if (poses.empty()) {
-    return Status::Error(options.scene_camera + ": no image with a pose");
+  keyframes->assign(scene.poses.size(), KeyframeInput());
+  for (std::size_t p = 0; p < scene.poses.size(); ++p) {
+    MakeKeyframe(options, scene, p, &(*keyframes)[p], &r);
   }
-
-  // Rows by image (file order within an image).
-  std::vector<int> image_ids;
-  for (const BopImage& image : images) image_ids.push_back(image.im_id);
-  std::map<int, std::vector<int>> rows_of;
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    const BopResultRow& row = rows[i];
-    if (!std::binary_search(image_ids.begin(), image_ids.end(), row.im_id)) {
-      return Status::Error(internal::At(options.results, row.line) +
-                           ": image " + std::to_string(row.im_id) +
-                           " is not in " + options.scene_camera);
-    }
-    rows_of[row.im_id].push_back(static_cast<int>(i));
-  }
-  r.rows = static_cast<int>(rows.size());
-
-  header->version = kLogFormatVersion;
-  header->camera = images.front().camera;
-  header->classes.clear();
-  for (const auto& [obj_id, model] : models) {
-    header->classes[ClassName(options, obj_id)] = model.prior;
-    if (!model.note.empty()) {
-      r.symmetry_notes.push_back("obj " + std::to_string(obj_id) + " (" +
-                                 ClassName(options, obj_id) +
-                                 "): " + model.note);
-    }
-  }
-  status = BopSourceOfImport(options, rows, models, &header->bop);
-  if (!status.ok()) return status;
-  keyframes->clear();
-  std::size_t posed = 0;
-  for (const ImagePose& pose : poses) {
-    KeyframeInput kf;
-    kf.id = pose.im_id;
-    kf.timestamp = pose.timestamp;
-    kf.T_wc = pose.T_wc;
-    const auto it = rows_of.find(pose.im_id);
-    if (it != rows_of.end()) {
-      kf.detections = Detections(options, models, pose.im_id, rows, it->second);
-      posed += it->second.size();
-    }
-    r.detections += static_cast<int>(kf.detections.size());
-    keyframes->push_back(std::move(kf));
-  }
-  for (std::size_t k = 1; k < keyframes->size(); ++k) {
-    if (!((*keyframes)[k].timestamp > (*keyframes)[k - 1].timestamp)) {
-      return Status::Error(options.image_times + ": the times of images " +
-                           std::to_string((*keyframes)[k - 1].id) + " and " +
-                           std::to_string((*keyframes)[k].id) +
-                           " do not increase with the image id");
-    }
-  }
-  r.keyframes = static_cast<int>(keyframes->size());
-  r.skipped_rows = static_cast<int>(rows.size() - posed);
   return Status::Ok();
 }
 
 Status ImportBopToLog(const BopImportOptions& options,
                       const std::string& log_path,
                       BopImportReport* report) {
+  BopImportReport local;
+  BopImportReport& r = report != nullptr ? *report : local;
+  r = BopImportReport();
+  BopScene scene;
+  Status status = ReadScene(options, &scene, &r);
   LogHeader header;
-  std::vector<KeyframeInput> keyframes;
-  const Status status = ImportBop(options, &header, &keyframes, report);
+  if (status.ok()) status = MakeHeader(options, scene, &header, &r);
   if (!status.ok()) return status;
-  return WriteLogAtomically(log_path, header, keyframes);
+  // One keyframe at a time: the 683,304 detections of the benchmark's
+  // 100 MB CSV held at once cost more in allocation than writing them.
+  KeyframeInput keyframe;
+  std::size_t p = 0;
+  return WriteLogAtomically(log_path, header, [&]() -> const KeyframeInput* {
+    if (p == scene.poses.size()) return nullptr;
+    MakeKeyframe(options, scene, p++, &keyframe, &r);
+    return &keyframe;
+  });
 }
 
 }  // namespace symba

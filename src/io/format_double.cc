@@ -4,10 +4,13 @@
 
 namespace symba {
 
+char* FormatDoubleTo(double value, char* buffer) {
+  return std::to_chars(buffer, buffer + kFormatDoubleSize, value).ptr;
+}
+
 void AppendDouble(double value, std::string* out) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  out->append(buffer, result.ptr);
+  char buffer[kFormatDoubleSize];
+  out->append(buffer, FormatDoubleTo(value, buffer));
 }
 
 std::string FormatDouble(double value) {

@@ -1,5 +1,6 @@
 #include "io/json_writer.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <string>
@@ -11,9 +12,15 @@ namespace symba {
 namespace io_internal {
 
 void AppendJsonDouble(double value, std::string* out) {
-  const std::size_t start = out->size();
-  AppendDouble(value, out);
-  if (out->find_first_of(".e", start) == std::string::npos) out->append(".0");
+  // Looked at for '.' and 'e' before it is appended.
+  char buffer[kFormatDoubleSize + 2];
+  char* end = FormatDoubleTo(value, buffer);
+  if (std::find_if(buffer, end, [](char c) { return c == '.' || c == 'e'; }) ==
+      end) {
+    *end++ = '.';
+    *end++ = '0';
+  }
+  out->append(buffer, end);
 }
 
 void AppendJsonString(std::string_view text, std::string* out) {

@@ -12,7 +12,7 @@ namespace symba {
 
 Status WriteLogAtomically(const std::string& path,
                           const LogHeader& header,
-                          const std::vector<KeyframeInput>& keyframes) {
+                          const std::function<const KeyframeInput*()>& next) {
   const std::string temporary =
       path + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
   Status status;
@@ -24,8 +24,9 @@ Status WriteLogAtomically(const std::string& path,
     }
     std::unique_ptr<LogWriter> writer;
     status = LogWriter::OpenStream(&file, path, header, &writer);
-    for (std::size_t i = 0; status.ok() && i < keyframes.size(); ++i) {
-      status = writer->Write(keyframes[i]);
+    const KeyframeInput* keyframe = nullptr;
+    while (status.ok() && (keyframe = next()) != nullptr) {
+      status = writer->Write(*keyframe);
     }
     if (status.ok()) status = writer->Close();
     if (status.ok()) {
@@ -39,6 +40,15 @@ Status WriteLogAtomically(const std::string& path,
   }
   if (!status.ok()) std::remove(temporary.c_str());
   return status;
+}
+
+Status WriteLogAtomically(const std::string& path,
+                          const LogHeader& header,
+                          const std::vector<KeyframeInput>& keyframes) {
+  std::size_t i = 0;
+  return WriteLogAtomically(path, header, [&]() -> const KeyframeInput* {
+    return i < keyframes.size() ? &keyframes[i++] : nullptr;
+  });
 }
 
 }  // namespace symba

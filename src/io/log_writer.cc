@@ -61,25 +61,53 @@ bool IsUtf8(std::string_view text) {
 
 bool Finite(const Eigen::Vector3d& v) { return v.allFinite(); }
 
+// The path of a checked value, e.g. "detections[3].hypotheses[0].w",
+// made into text only for a message: building it for every hypothesis of
+// every keyframe cost an allocation each. Only for arguments: it refers to
+// its name and parent.
+class MemberPath {
+ public:
+  // A top-level name, e.g. "T_wc" (implicit, as the checks take names).
+  MemberPath(const char* name) : name_(name) {}
+  MemberPath(const std::string& name) : name_(name) {}
+  MemberPath(const MemberPath* parent,
+             std::string_view name,
+             std::size_t index = kNoIndex)
+      : parent_(parent), name_(name), index_(index) {}
+
+  std::string Text() const {
+    std::string text = parent_ != nullptr ? parent_->Text() + "." : "";
+    text += name_;
+    if (index_ != kNoIndex) text += "[" + std::to_string(index_) + "]";
+    return text;
+  }
+
+ private:
+  static constexpr std::size_t kNoIndex = static_cast<std::size_t>(-1);
+  const MemberPath* parent_ = nullptr;
+  std::string_view name_;
+  std::size_t index_ = kNoIndex;
+};
+
 // Checks what the reader checks; `fail` turns (path, reason) into a Status.
 template <typename Fail>
-Status CheckPose(const Rigid3d& pose, const std::string& path, Fail fail) {
-  if (!Finite(pose.t)) return fail(path + ".t", "non-finite number");
+Status CheckPose(const Rigid3d& pose, const MemberPath& path, Fail fail) {
+  if (!Finite(pose.t)) return fail(path.Text() + ".t", "non-finite number");
   if (!pose.q.coeffs().allFinite())
-    return fail(path + ".q", "non-finite number");
+    return fail(path.Text() + ".q", "non-finite number");
   const double norm = pose.q.norm();
   if (!(std::abs(norm - 1.0) <= 1e-3)) {
-    return fail(path + ".q",
+    return fail(path.Text() + ".q",
                 "quaternion norm " + Approx(norm) + " is not within 1e-3 of 1");
   }
   return Status::Ok();
 }
 
 template <typename Fail>
-Status CheckPositive(double value, const std::string& path, Fail fail) {
-  if (!std::isfinite(value)) return fail(path, "non-finite number");
+Status CheckPositive(double value, const MemberPath& path, Fail fail) {
+  if (!std::isfinite(value)) return fail(path.Text(), "non-finite number");
   if (!(value > 0.0))
-    return fail(path, "must be positive, got " + FormatDouble(value));
+    return fail(path.Text(), "must be positive, got " + FormatDouble(value));
   return Status::Ok();
 }
 
@@ -281,33 +309,32 @@ class LogWriter::Impl {
     }
     for (std::size_t d = 0; d < keyframe.detections.size(); ++d) {
       const DetectionInput& detection = keyframe.detections[d];
-      const std::string path = "detections[" + std::to_string(d) + "]";
-      if (!IsUtf8(detection.id)) return fail(path + ".id", "not UTF-8");
+      const MemberPath path(nullptr, "detections", d);
+      if (!IsUtf8(detection.id)) return fail(path.Text() + ".id", "not UTF-8");
       if (!IsUtf8(detection.class_name)) {
-        return fail(path + ".class", "not UTF-8");
+        return fail(path.Text() + ".class", "not UTF-8");
       }
       if (!std::isfinite(detection.score)) {
-        return fail(path + ".score", "non-finite number");
+        return fail(path.Text() + ".score", "non-finite number");
       }
       if (detection.sigma_t) {
-        status = CheckPositive(*detection.sigma_t, path + ".sigma_t", fail);
+        status = CheckPositive(*detection.sigma_t, {&path, "sigma_t"}, fail);
         if (!status.ok()) return status;
       }
       if (detection.sigma_r) {
-        status = CheckPositive(*detection.sigma_r, path + ".sigma_r", fail);
+        status = CheckPositive(*detection.sigma_r, {&path, "sigma_r"}, fail);
         if (!status.ok()) return status;
       }
       if (detection.hypotheses.empty()) {
-        return fail(path + ".hypotheses",
+        return fail(path.Text() + ".hypotheses",
                     "empty; a detection needs at least one hypothesis");
       }
       for (std::size_t h = 0; h < detection.hypotheses.size(); ++h) {
-        const std::string h_path =
-            path + ".hypotheses[" + std::to_string(h) + "]";
+        const MemberPath h_path(&path, "hypotheses", h);
         status = CheckPose(detection.hypotheses[h].T_co, h_path, fail);
         if (status.ok()) {
           status = CheckPositive(
-              detection.hypotheses[h].weight, h_path + ".w", fail);
+              detection.hypotheses[h].weight, {&h_path, "w"}, fail);
         }
         if (!status.ok()) return status;
       }
@@ -317,10 +344,12 @@ class LogWriter::Impl {
     }
     for (std::size_t p = 0; p < keyframe.points.size(); ++p) {
       const PointObservation& point = keyframe.points[p];
-      const std::string path = "points[" + std::to_string(p) + "]";
-      if (!point.uv.allFinite()) return fail(path + ".uv", "non-finite number");
+      const MemberPath path(nullptr, "points", p);
+      if (!point.uv.allFinite()) {
+        return fail(path.Text() + ".uv", "non-finite number");
+      }
       if (point.depth) {
-        status = CheckPositive(*point.depth, path + ".depth", fail);
+        status = CheckPositive(*point.depth, {&path, "depth"}, fail);
         if (!status.ok()) return status;
       }
     }

@@ -82,7 +82,7 @@ Status ImportBop(const BopImportOptions& options,
                  BopImportReport* report);
 
 // ImportBop, then WriteLogAtomically to `log_path`: on any error `log_path`
-// is left as it was.
+// is left as it was. The keyframes are made and written one at a time.
 Status ImportBopToLog(const BopImportOptions& options,
                       const std::string& log_path,
                       BopImportReport* report);

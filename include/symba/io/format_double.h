@@ -14,6 +14,13 @@ std::string FormatDouble(double value);
 // Appends FormatDouble(value) to `out` without a temporary string.
 void AppendDouble(double value, std::string* out);
 
+// Room for any FormatDouble text ("-2.2250738585072014e-308" is 24).
+inline constexpr int kFormatDoubleSize = 32;
+
+// Writes FormatDouble(value) into `buffer` (kFormatDoubleSize chars, no
+// terminating zero) and returns the end of the text.
+char* FormatDoubleTo(double value, char* buffer);
+
 }  // namespace symba
 
 #endif  // SYMBA_IO_FORMAT_DOUBLE_H_

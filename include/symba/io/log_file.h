@@ -4,6 +4,7 @@
 #ifndef SYMBA_IO_LOG_FILE_H_
 #define SYMBA_IO_LOG_FILE_H_
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,13 @@ namespace symba {
 Status WriteLogAtomically(const std::string& path,
                           const LogHeader& header,
                           const std::vector<KeyframeInput>& keyframes);
+
+// The same with the keyframes made one at a time, so a large log need not
+// be held in memory: `next` returns the next keyframe (valid until the next
+// call), or null after the last.
+Status WriteLogAtomically(const std::string& path,
+                          const LogHeader& header,
+                          const std::function<const KeyframeInput*()>& next);
 
 }  // namespace symba
 

@@ -160,23 +160,45 @@ Status ReplayAndEvaluate(const std::string& log,
                    symba::FormatEvaluationJson(run->evaluation));
 }
 
+// Simulates `scene` and writes it into parent_dir/seed-<seed>/.
+Status SimulateInto(const std::string& scene,
+                    const symba::SimulationOptions& simulation,
+                    uint32_t seed,
+                    const fs::path& parent_dir,
+                    fs::path* sequence_dir) {
+  symba::SimulatedSequence sequence;
+  Status status = symba::Simulate(scene, simulation, seed, &sequence);
+  if (!status.ok()) return status;
+  std::error_code error;
+  fs::create_directories(parent_dir, error);
+  if (error) {
+    return Status::Error(parent_dir.string() + ": " + error.message());
+  }
+  *sequence_dir = parent_dir / ("seed-" + std::to_string(seed));
+  return symba::WriteSimulation(sequence, sequence_dir->string());
+}
+
+// The replay options of method m under the flags' window policy.
+symba::ReplayOptions MethodOptions(const Flags& flags, int m) {
+  symba::ReplayOptions options;
+  options.backend.method = kMethods[m].method;
+  options.backend.merge_modes = kMethods[m].merge_modes;
+  options.backend.window_policy = flags.window_policy;
+  options.backend.chain_prior = flags.chain_prior;
+  return options;
+}
+
 // Simulates, replays with every method, evaluates, draws (seed 0).
 Status RunSeed(const Flags& flags,
                const std::string& scene,
                uint32_t seed,
                std::vector<std::vector<Run>>* runs) {
-  symba::SimulatedSequence sequence;
-  Status status =
-      symba::Simulate(scene, symba::SimulationOptions(), seed, &sequence);
-  if (!status.ok()) return status;
-  const fs::path scene_dir = fs::path(flags.out_dir) / scene;
-  std::error_code error;
-  fs::create_directories(scene_dir, error);
-  if (error) {
-    return Status::Error(scene_dir.string() + ": " + error.message());
-  }
-  const fs::path sequence_dir = scene_dir / ("seed-" + std::to_string(seed));
-  status = symba::WriteSimulation(sequence, sequence_dir.string());
+  fs::path sequence_dir;
+  Status status = SimulateInto(scene,
+                               symba::SimulationOptions(),
+                               seed,
+                               fs::path(flags.out_dir) / scene,
+                               &sequence_dir);
   if (!status.ok()) return status;
   const std::string log = (sequence_dir / "log.jsonl").string();
 
@@ -189,11 +211,7 @@ Status RunSeed(const Flags& flags,
                    static_cast<unsigned>(seed),
                    kMethods[m].label);
     }
-    symba::ReplayOptions options;
-    options.backend.method = kMethods[m].method;
-    options.backend.merge_modes = kMethods[m].merge_modes;
-    options.backend.window_policy = flags.window_policy;
-    options.backend.chain_prior = flags.chain_prior;
+    const symba::ReplayOptions options = MethodOptions(flags, m);
     const fs::path method_dir = sequence_dir / name;
     Run run;
     status = ReplayAndEvaluate(log, options, sequence_dir, method_dir, &run);
@@ -248,18 +266,13 @@ Status RunSingleHypothesisSeed(const Flags& flags,
   symba::SimulationOptions simulation;
   simulation.single_hypothesis = true;
   simulation.write_class_priors = setting.write_class_priors;
-  symba::SimulatedSequence sequence;
-  Status status = symba::Simulate(scene, simulation, seed, &sequence);
-  if (!status.ok()) return status;
-  const fs::path setting_dir =
-      fs::path(flags.out_dir) / "single-hypothesis" / scene / setting.dir;
-  std::error_code error;
-  fs::create_directories(setting_dir, error);
-  if (error) {
-    return Status::Error(setting_dir.string() + ": " + error.message());
-  }
-  const fs::path sequence_dir = setting_dir / ("seed-" + std::to_string(seed));
-  status = symba::WriteSimulation(sequence, sequence_dir.string());
+  fs::path sequence_dir;
+  Status status = SimulateInto(
+      scene,
+      simulation,
+      seed,
+      fs::path(flags.out_dir) / "single-hypothesis" / scene / setting.dir,
+      &sequence_dir);
   if (!status.ok()) return status;
   const std::string log = (sequence_dir / "log.jsonl").string();
   for (int m = 0; m < kNumSingleHypothesisMethods; ++m) {
@@ -271,11 +284,7 @@ Status RunSingleHypothesisSeed(const Flags& flags,
                    static_cast<unsigned>(seed),
                    kMethods[m].label);
     }
-    symba::ReplayOptions options;
-    options.backend.method = kMethods[m].method;
-    options.backend.merge_modes = kMethods[m].merge_modes;
-    options.backend.window_policy = flags.window_policy;
-    options.backend.chain_prior = flags.chain_prior;
+    const symba::ReplayOptions options = MethodOptions(flags, m);
     Run run;
     status = ReplayAndEvaluate(
         log, options, sequence_dir, sequence_dir / kMethods[m].dir, &run);

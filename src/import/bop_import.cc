@@ -74,10 +74,8 @@ Status CheckOptions(const BopImportOptions& o) {
         "options: the results CSV and scene_camera.json are "
         "required");
   }
-  if (o.trajectory.empty() != o.image_times.empty()) {
-    return Status::Error(
-        "options: a trajectory needs the image times and "
-        "the image times need a trajectory");
+  if (!o.trajectory.empty() && o.image_times.empty()) {
+    return Status::Error("options: a trajectory needs the image times");
   }
   if (o.gate && !(*o.gate > 0.0 && std::isfinite(*o.gate))) {
     return Status::Error("gate: must be positive");
@@ -122,10 +120,27 @@ struct ImagePose {
   Rigid3d T_wc;
 };
 
+// The images' times by image id (from --image-times), or none.
+using TimesById = std::map<int, const ImageTime*>;
+
+TimesById IndexTimes(const std::vector<ImageTime>& times) {
+  TimesById time_of;
+  for (const ImageTime& t : times) time_of[t.im_id] = &t;
+  return time_of;
+}
+
+Status MissingTime(const BopImportOptions& o, int im_id) {
+  return Status::Error(o.image_times + ": no time for image " +
+                       std::to_string(im_id) + " of " + o.scene_camera);
+}
+
+// The w2c poses; an image's time from --image-times when given, else its id.
 Status PosesFromSceneCamera(const BopImportOptions& o,
                             const std::vector<BopImage>& images,
+                            const std::vector<ImageTime>& times,
                             std::vector<ImagePose>* poses,
                             BopImportReport* report) {
+  const TimesById time_of = IndexTimes(times);
   for (const BopImage& image : images) {
     if (!image.T_cw) {
       if (o.skip_images_without_pose) {
@@ -137,8 +152,13 @@ Status PosesFromSceneCamera(const BopImportOptions& o,
           "\"]: no cam_R_w2c/cam_t_w2c; give the front end's poses with "
           "--trajectory and --image-times, or skip such images");
     }
-    poses->push_back(
-        {image.im_id, static_cast<double>(image.im_id), image.T_cw->Inverse()});
+    double timestamp = static_cast<double>(image.im_id);
+    if (!o.image_times.empty()) {
+      const auto t = time_of.find(image.im_id);
+      if (t == time_of.end()) return MissingTime(o, image.im_id);
+      timestamp = t->second->timestamp;
+    }
+    poses->push_back({image.im_id, timestamp, image.T_cw->Inverse()});
   }
   return Status::Ok();
 }
@@ -151,15 +171,10 @@ Status PosesFromTrajectory(const BopImportOptions& o,
   std::vector<TrajectoryPose> trajectory;
   Status status = ReadTumTrajectory(o.trajectory, &trajectory);
   if (!status.ok()) return status;
-  std::map<int, const ImageTime*> time_of;
-  for (const ImageTime& t : times) time_of[t.im_id] = &t;
+  const TimesById time_of = IndexTimes(times);
   for (const BopImage& image : images) {
     const auto t = time_of.find(image.im_id);
-    if (t == time_of.end()) {
-      return Status::Error(o.image_times + ": no time for image " +
-                           std::to_string(image.im_id) + " of " +
-                           o.scene_camera);
-    }
+    if (t == time_of.end()) return MissingTime(o, image.im_id);
     const TrajectoryPose* pose =
         Nearest(trajectory, t->second->timestamp, o.time_tolerance);
     if (pose == nullptr) {
@@ -392,15 +407,15 @@ Status ReadScene(const BopImportOptions& options,
     status =
         import_internal::ReadBopResults(options.results, options.scene, &rows);
   }
+  std::vector<ImageTime> times;
+  if (status.ok() && !options.image_times.empty()) {
+    status = import_internal::ReadImageTimes(options.image_times, &times);
+  }
   std::vector<ImagePose>& poses = scene->poses;
   if (status.ok() && options.trajectory.empty()) {
-    status = PosesFromSceneCamera(options, images, &poses, &r);
+    status = PosesFromSceneCamera(options, images, times, &poses, &r);
   } else if (status.ok()) {
-    std::vector<ImageTime> times;
-    status = import_internal::ReadImageTimes(options.image_times, &times);
-    if (status.ok()) {
-      status = PosesFromTrajectory(options, images, times, &poses, &r);
-    }
+    status = PosesFromTrajectory(options, images, times, &poses, &r);
   }
   if (!status.ok()) return status;
   if (poses.empty()) {

@@ -878,6 +878,11 @@ void ReadOneModeWithPrior(const ClassPrior& prior,
   }
   cluster.spread = std::sqrt(sum_sq / cluster.weight);
   out->clusters.assign(1, cluster);
+  // The reference's cluster is clusters[0] (categorize.h).
+  out->reference = out->inliers.front();
+  for (int j : out->inliers) {
+    if (work.w[j] > work.w[out->reference]) out->reference = j;
+  }
 }
 
 void Reset(CategorizedDetection* out) {

@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "io/text_file.h"
+#include "symba/geometry/angle.h"
 #include "symba/geometry/swing_twist.h"
 #include "symba/io/log_format.h"
 
@@ -53,7 +54,9 @@ std::optional<int> ObjIdFromName(const std::string& name) {
 class RowMaker {
  public:
   RowMaker(const ReplayResult& replay, int scene_id)
-      : bop_(replay.header.bop), scene_id_(scene_id) {
+      : bop_(replay.header.bop),
+        classes_(replay.header.classes),
+        scene_id_(scene_id) {
     for (const KeyframeEstimate& k : replay.keyframes) T_wc_[k.id] = k.T_wc;
     for (const MapObjectEstimate& o : replay.objects) objects_[o.id] = &o;
     for (const DetectionAssignment& a : replay.assignments) {
@@ -77,8 +80,10 @@ class RowMaker {
       if (!status.ok()) return status;
       row.scene_id = scene_id_;
       row.score = detection.score;
-      const Rigid3d T_wo =
-          ClosestSymmetricPose(*object, T_cw, BestHypothesis(detection).T_co);
+      const Rigid3d T_wo = ClosestSymmetricPose(*object,
+                                                T_cw,
+                                                BestHypothesis(detection).T_co,
+                                                PriorOrder(object->class_name));
       row.T_co = T_cw * T_wo;
       rows->push_back(row);
     }
@@ -86,6 +91,15 @@ class RowMaker {
   }
 
  private:
+  // The class prior's discrete order, 0 when there is none.
+  int PriorOrder(const std::string& class_name) const {
+    const auto it = classes_.find(class_name);
+    return it != classes_.end() &&
+                   it->second.symmetry == SymmetryType::kDiscrete
+               ? it->second.order
+               : 0;
+  }
+
   // The map object a detection went to, or null (an outlier, or tentative).
   const MapObjectEstimate* ObjectOf(int64_t keyframe,
                                     const std::string& detection) const {
@@ -125,6 +139,7 @@ class RowMaker {
   }
 
   const std::optional<BopSource>& bop_;
+  const std::map<std::string, ClassPrior>& classes_;
   int scene_id_;
   std::map<int64_t, Rigid3d> T_wc_;
   std::map<int, const MapObjectEstimate*> objects_;
@@ -155,7 +170,8 @@ Status SceneId(const ReplayResult& replay,
 
 Rigid3d ClosestSymmetricPose(const MapObjectEstimate& object,
                              const Rigid3d& T_cw,
-                             const Rigid3d& T_co_reference) {
+                             const Rigid3d& T_co_reference,
+                             int order) {
   const Eigen::Quaterniond& q_ref = T_co_reference.q;
   if (object.poses.empty()) {  // not from the backend, which gives one
     return Rigid3d(Eigen::Quaterniond::Identity(), object.t_wo);
@@ -174,17 +190,28 @@ Rigid3d ClosestSymmetricPose(const MapObjectEstimate& object,
         DecomposeSwingTwist(N.normalized(), object.axis_w).twist;
     return Rigid3d((twist * base.q).normalized(), object.t_wo);
   }
-  // Asymmetric: one pose; discrete: one per angle. Nearest R_cw R_wo_i.
-  const Rigid3d* best = &object.poses.front();
+  // Asymmetric: one pose; discrete: one per angle, and with a known order
+  // each turned by the symmetry, R_wo_i Rot(a_o, 2 pi m / order). Nearest
+  // R_cw R_wo.
+  const int turns =
+      object.symmetry == SymmetryType::kDiscrete && order >= 2 ? order : 1;
+  Rigid3d best = object.poses.front();
   double best_angle = std::numeric_limits<double>::infinity();
   for (const Rigid3d& T_wo : object.poses) {
-    const double angle = RotationDistance(T_cw.q * T_wo.q, q_ref);
-    if (angle < best_angle) {
-      best_angle = angle;
-      best = &T_wo;
+    for (int m = 0; m < turns; ++m) {
+      const Eigen::Quaterniond q_wo =
+          m == 0 ? T_wo.q
+                 : (T_wo.q * Eigen::Quaterniond(Eigen::AngleAxisd(
+                                 kTwoPi * m / turns, object.axis_o)))
+                       .normalized();
+      const double angle = RotationDistance(T_cw.q * q_wo, q_ref);
+      if (angle < best_angle) {
+        best_angle = angle;
+        best = Rigid3d(q_wo, T_wo.t);
+      }
     }
   }
-  return *best;
+  return best;
 }
 
 Status RefinedBopResults(const ReplayResult& replay,

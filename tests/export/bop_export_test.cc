@@ -135,6 +135,31 @@ TEST(ClosestSymmetricPose, DiscretePicksTheAngleNearestTheDetection) {
             table.poses[0].q.coeffs());
 }
 
+// With the prior's order a flip folded onto the object's one angle gets
+// the turned pose back: R_wo_0 Rot(a_o, pi) for a detection near pi.
+TEST(ClosestSymmetricPose, AKnownOrderTurnsTheOneAngleByTheSymmetry) {
+  MapObjectEstimate table =
+      Object(0, "table", SymmetryType::kDiscrete, Eigen::Vector3d(1, 2, 3));
+  table.axis_w = Eigen::Vector3d::UnitZ();
+  table.axis_o = Eigen::Vector3d::UnitZ();
+  table.angles = {0.0};
+  table.poses = {Rigid3d(RotZ(0.3), table.t_wo)};
+  const Rigid3d T_cw(RotZ(-0.3), Eigen::Vector3d(0, 0, 1));
+  const Rigid3d reference(RotZ(kPi * 170 / 180), Eigen::Vector3d::Zero());
+  // Without the order: the one pose, 170 degrees from the detection.
+  EXPECT_EQ(ClosestSymmetricPose(table, T_cw, reference).q.coeffs(),
+            table.poses[0].q.coeffs());
+  // Order 2: turned by pi, 10 degrees from it.
+  const Rigid3d turned = ClosestSymmetricPose(table, T_cw, reference, 2);
+  EXPECT_LT(turned.q.angularDistance(RotZ(0.3 + kPi)), 1e-12);
+  EXPECT_EQ(turned.t, table.t_wo);
+  // Order 4 and a detection at 95 degrees: turned by pi / 2.
+  const Rigid3d at_95(RotZ(kPi * 95 / 180), Eigen::Vector3d::Zero());
+  EXPECT_LT(ClosestSymmetricPose(table, T_cw, at_95, 4)
+                .q.angularDistance(RotZ(0.3 + kPi / 2)),
+            1e-12);
+}
+
 TEST(ClosestSymmetricPose, ContinuousTurnsAboutTheAxisToTheDetection) {
   // A round table with its axis along world x (its pose turns object z
   // onto world x), seen from a camera turned 0.4 rad about z.

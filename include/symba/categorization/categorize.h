@@ -65,7 +65,9 @@
 // frame's flip to another symmetric pose is no contradiction. Then
 //   axis_o = prior axis (unit), T_co_base = the asymmetric mean pose,
 //   axis_c = R_base axis_o, discrete: one cluster at theta = 0 holding the
-//   inliers (the backend reads its angle modulo 2 pi / order).
+//   inliers, whose highest-weight member is then the reference (the
+//   backend reads its angle modulo 2 pi / order when the prior gives the
+//   order; without one a flip opens a new angle).
 #ifndef SYMBA_CATEGORIZATION_CATEGORIZE_H_
 #define SYMBA_CATEGORIZATION_CATEGORIZE_H_
 

@@ -41,14 +41,18 @@ struct RefinedBopResultsOptions {
 // The map object's pose T_wo among its symmetric poses whose T_cw * T_wo is
 // nearest in rotation (geodesic angle) to `T_co_reference`:
 //   asymmetric  its one pose
-//   discrete    the pose of one of its angles (MapObjectEstimate::poses)
+//   discrete    the pose of one of its angles (MapObjectEstimate::poses),
+//               each also turned about axis_o by 2 pi m / order, m < order,
+//               when `order` (the class prior's) is >= 2: with the prior a
+//               single-pose detector's flips fold onto one angle
 //   continuous  its representative pose turned about the world axis through
 //               t_wo by the angle that fits best
 // The translation is t_wo in every case (with no pose at all, the identity
 // rotation).
 Rigid3d ClosestSymmetricPose(const MapObjectEstimate& object,
                              const Rigid3d& T_cw,
-                             const Rigid3d& T_co_reference);
+                             const Rigid3d& T_co_reference,
+                             int order = 0);
 
 // The rows for the detections of `keyframes` (the replayed log's keyframes,
 // for their detections' scores and hypotheses) as described above.

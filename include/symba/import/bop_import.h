@@ -38,8 +38,10 @@ struct BopImportOptions {
   std::string results;       // the results CSV
   std::string scene_camera;  // scene_camera.json
   std::string models_info;   // models_info.json; empty: no class priors
-  // A front end's TUM trajectory (T_wc) and the images' timestamps; both or
-  // neither. Without them the poses come from scene_camera.json.
+  // A front end's TUM trajectory (T_wc), which needs the images' timestamps
+  // to match it; without it the poses come from scene_camera.json. The
+  // timestamps, when given, are the keyframes' times with either source
+  // (else t = im_id).
   std::string trajectory;
   std::string image_times;
   // The scene to import; empty: the CSV's only scene (several are an error).

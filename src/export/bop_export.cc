@@ -257,6 +257,18 @@ std::string ImageTimes(const std::vector<KeyframeInput>& keyframes) {
   return text;
 }
 
+// A TUM trajectory needs strictly increasing times (the importer, like every
+// TUM reader, refuses a repeated one); a log only needs non-decreasing ones.
+// The first keyframe whose time does not follow its predecessor's, or -1.
+int FirstRepeatedTime(const std::vector<KeyframeInput>& keyframes) {
+  for (std::size_t k = 1; k < keyframes.size(); ++k) {
+    if (!(keyframes[k].timestamp > keyframes[k - 1].timestamp)) {
+      return static_cast<int>(k);
+    }
+  }
+  return -1;
+}
+
 std::string FrontEndTum(const std::vector<KeyframeInput>& keyframes,
                         const std::vector<Rigid3d>& T_wc) {
   std::vector<std::pair<double, Rigid3d>> trajectory;
@@ -304,7 +316,19 @@ Status ExportLogToBop(const std::string& log_path,
       "models_info.json",
       ModelsInfoJson(r.obj_ids, options, input.header, &r.notes));
   files->emplace_back("image_times.txt", ImageTimes(input.keyframes));
-  files->emplace_back("frontend.tum", FrontEndTum(input.keyframes, T_wc));
+  const int repeated = FirstRepeatedTime(input.keyframes);
+  if (repeated < 0) {
+    files->emplace_back("frontend.tum", FrontEndTum(input.keyframes, T_wc));
+  } else {
+    const KeyframeInput& keyframe = input.keyframes[repeated];
+    std::string time;
+    AppendDouble(keyframe.timestamp, &time);
+    r.notes.push_back("frontend.tum not written: keyframe " +
+                      std::to_string(keyframe.id) + " has the time " + time +
+                      " of the keyframe before it, and a TUM trajectory "
+                      "needs increasing times (scene_camera.json carries "
+                      "the same poses)");
+  }
   files->emplace_back("class_names.txt", ClassNames(r.obj_ids));
   return Status::Ok();
 }

@@ -374,14 +374,16 @@ struct BopScene {
   RowsByImage rows_of;
 };
 
-Status CheckTimesIncrease(const BopImportOptions& options,
-                          const std::vector<ImagePose>& poses) {
+// The keyframes' times must not decrease with the image id (a log's rule:
+// equal times are allowed, as two keyframes of one time are).
+Status CheckTimesDoNotDecrease(const BopImportOptions& options,
+                               const std::vector<ImagePose>& poses) {
   for (std::size_t k = 1; k < poses.size(); ++k) {
-    if (!(poses[k].timestamp > poses[k - 1].timestamp)) {
-      return Status::Error(options.image_times + ": the times of images " +
-                           std::to_string(poses[k - 1].im_id) + " and " +
-                           std::to_string(poses[k].im_id) +
-                           " do not increase with the image id");
+    if (poses[k].timestamp < poses[k - 1].timestamp) {
+      return Status::Error(
+          options.image_times + ": image " + std::to_string(poses[k].im_id) +
+          " is earlier than image " + std::to_string(poses[k - 1].im_id) +
+          ": the times must not decrease with the image id");
     }
   }
   return Status::Ok();
@@ -423,7 +425,7 @@ Status ReadScene(const BopImportOptions& options,
   }
 
   status = SortRowsByImage(options, images, rows, &scene->rows_of);
-  if (status.ok()) status = CheckTimesIncrease(options, poses);
+  if (status.ok()) status = CheckTimesDoNotDecrease(options, poses);
   if (!status.ok()) return status;
   r.rows = static_cast<int>(rows.size());
   r.keyframes = static_cast<int>(poses.size());

@@ -412,6 +412,49 @@ TEST(ExportLogToBop, WritesTheFilesTheImporterReadsBack) {
   }
 }
 
+// A log may give two keyframes the same time; a TUM trajectory may not (the
+// importer refuses it), so frontend.tum is left out with a note and the
+// other files, scene_camera.json's poses among them, still import.
+TEST(ExportLogToBop, RepeatedTimesLeaveOutTheTumTrajectoryWithANote) {
+  const fs::path dir = FreshDir("repeated_times");
+  LogHeader header;
+  header.camera = PinholeIntrinsics{500.0, 500.0, 320.0, 240.0};
+  std::vector<KeyframeInput> keyframes(3);
+  for (int k = 0; k < 3; ++k) {
+    keyframes[k].id = 10 + k;
+    keyframes[k].timestamp = k == 0 ? 0.5 : 0.75;
+    keyframes[k].T_wc = Rigid3d(RotZ(0.1 * k), Eigen::Vector3d(k, 0, 0));
+  }
+  const std::string log = (dir / "repeated.jsonl").string();
+  ASSERT_TRUE(WriteLogAtomically(log, header, keyframes).ok());
+  const std::string out = (dir / "bop").string();
+  BopExportReport report;
+  const Status status = ExportLogToBopDirectory(log, {}, out, &report);
+  ASSERT_TRUE(status.ok()) << status.message();
+  ASSERT_EQ(report.notes.size(), 1u);
+  EXPECT_EQ(report.notes[0],
+            "frontend.tum not written: keyframe 12 has the time 0.75 of the "
+            "keyframe before it, and a TUM trajectory needs increasing times "
+            "(scene_camera.json carries the same poses)");
+  EXPECT_FALSE(fs::exists(fs::path(out) / "frontend.tum"));
+  EXPECT_EQ(ReadFile(fs::path(out) / "image_times.txt"),
+            "10 0.5\n11 0.75\n12 0.75\n");
+
+  BopImportOptions import;
+  import.results = (fs::path(out) / "results.csv").string();
+  import.scene_camera = (fs::path(out) / "scene_camera.json").string();
+  import.image_times = (fs::path(out) / "image_times.txt").string();
+  LogHeader read_header;
+  std::vector<KeyframeInput> read;
+  const Status read_status = ImportBop(import, &read_header, &read, nullptr);
+  ASSERT_TRUE(read_status.ok()) << read_status.message();
+  ASSERT_EQ(read.size(), 3u);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(read[k].timestamp, keyframes[k].timestamp);
+    EXPECT_NEAR((read[k].T_wc->t - keyframes[k].T_wc->t).norm(), 0.0, 1e-12);
+  }
+}
+
 TEST(ExportLogToBop, EachBadInputIsNamedAndNothingIsWritten) {
   const fs::path dir = FreshDir("errors");
   const std::string out = (dir / "bop").string();

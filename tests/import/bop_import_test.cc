@@ -304,6 +304,16 @@ TEST_F(BopImportTest, ImageTimesTimeTheSceneCameraPoses) {
   EXPECT_EQ(keyframes[1].timestamp, 20.25);
   EXPECT_TRUE(keyframes[1].T_wc->t.isApprox(Eigen::Vector3d(1, 0, 0)));
 
+  // Equal times are a log's right (timestamps only must not decrease).
+  options_.image_times = Write("times.txt", "0 20.5\n3 20.5\n");
+  ASSERT_TRUE(ImportBop(options_, &header, &keyframes, nullptr).ok());
+  EXPECT_EQ(keyframes[1].timestamp, 20.5);
+
+  options_.image_times = Write("times.txt", "0 21.0\n3 20.5\n");
+  EXPECT_EQ(Failure(),
+            options_.image_times +
+                ": image 3 is earlier than image 0: the times must not "
+                "decrease with the image id");
   options_.image_times = Write("times.txt", "0 20.0\n");
   EXPECT_EQ(Failure(),
             options_.image_times + ": no time for image 3 of " +

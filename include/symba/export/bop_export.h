@@ -21,7 +21,9 @@
 //                       a -> symmetries_continuous [{axis a, offset 0}];
 //                       asymmetric or unknown -> no symmetry key
 //   image_times.txt     "im_id timestamp" per image (the keyframe's time)
-//   frontend.tum        the front end's T_wc per image, a TUM trajectory
+//   frontend.tum        the front end's T_wc per image, a TUM trajectory;
+//                       not written (a note says why) when two keyframes
+//                       share a time, which a log allows and TUM does not
 //   class_names.txt     "1=table,2=mug": the --class-names of the import
 // The front end's pose of a keyframe is its T_wc, else the previous one's
 // composed with its odometry (T_wc(k) = T_wc(k-1) T_{k-1,k}). Object ids
@@ -60,11 +62,12 @@ struct BopExportReport {
   int rows = 0;
   std::map<std::string, int> obj_ids;  // class name -> obj_id
   // Classes whose symmetry is unknown or lacks its axis, one sentence each
-  // (written without symmetries, which BOP reads as asymmetric).
+  // (written without symmetries, which BOP reads as asymmetric), and
+  // frontend.tum left out when keyframe times repeat.
   std::vector<std::string> notes;
 };
 
-// Reads `log_path` (strictly, LogReader) and formats the six files above
+// Reads `log_path` (strictly, LogReader) and formats the files above
 // as (name, content). Errors: the log's ("FILE:LINE: reason"), no camera in
 // the header ("LOG: header: no camera; ..."), a keyframe id that is no
 // im_id ("LOG:LINE: keyframe -1: ..."), invalid options ("options: ...").

@@ -154,11 +154,12 @@ std::size_t FileSize(std::ifstream* in) {
   return size > 0 ? static_cast<std::size_t>(size) : 0;
 }
 
-// Calls on_line(line number from 1, line without '\n' and a trailing '\r')
-// for each line of `in` until it returns an error; a last line without '\n'
-// counts when not empty. The file is read in chunks into one buffer (a line
-// longer than the buffer grows it): a whole 100 MB file in memory costs
-// more in page faults than parsing it. The read error is ReadText's.
+// Calls on_line(line number from 1, line without '\n' and a trailing '\r',
+// the first without a byte order mark) for each line of `in` until it
+// returns an error; a last line without '\n' counts when not empty. The
+// file is read in chunks into one buffer (a line longer than the buffer
+// grows it): a whole 100 MB file in memory costs more in page faults than
+// parsing it. The read error is ReadText's.
 template <typename OnLine>
 Status ForEachLine(const std::string& path, std::ifstream* in, OnLine on_line) {
   std::string buffer(std::size_t{1} << 20, '\0');
@@ -178,6 +179,7 @@ Status ForEachLine(const std::string& path, std::ifstream* in, OnLine on_line) {
       std::string_view current = rest.substr(0, newline);
       rest.remove_prefix(std::min(current.size() + 1, rest.size()));
       if (!current.empty() && current.back() == '\r') current.remove_suffix(1);
+      if (line == 0) current = internal::WithoutByteOrderMark(current);
       Status status = on_line(++line, current);
       if (!status.ok()) return status;
     }

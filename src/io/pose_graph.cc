@@ -160,6 +160,9 @@ Status ReadG2oPoseGraph(const std::string& path,
   int line = 0;
   while (std::getline(in, text)) {
     ++line;
+    if (line == 1) {
+      text.erase(0, text.size() - internal::WithoutByteOrderMark(text).size());
+    }
     const std::vector<std::string_view> fields = SplitFields(text);
     if (fields.empty() || fields[0][0] == '#') continue;
     const LineParser parser(path, line);

@@ -29,9 +29,17 @@ Status ReadText(const std::string& path, std::string* text) {
   return Status::Ok();
 }
 
+std::string_view WithoutByteOrderMark(std::string_view text) {
+  constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
+  if (text.substr(0, kUtf8Bom.size()) == kUtf8Bom) {
+    text.remove_prefix(kUtf8Bom.size());
+  }
+  return text;
+}
+
 std::vector<std::string_view> SplitLines(const std::string& text) {
   std::vector<std::string_view> lines;
-  std::string_view rest(text);
+  std::string_view rest = WithoutByteOrderMark(text);
   while (!rest.empty()) {
     const std::size_t end = rest.find('\n');
     std::string_view line = rest.substr(0, end);

@@ -18,7 +18,12 @@ namespace symba::internal {
 // The whole file as bytes; "PATH: cannot open" / "PATH: cannot read".
 Status ReadText(const std::string& path, std::string* text);
 
-// The lines of `text`, without their '\n' (and a trailing '\r').
+// `text` without a leading UTF-8 byte order mark (EF BB BF), which some
+// editors and spreadsheet programs write at the start of a text file.
+std::string_view WithoutByteOrderMark(std::string_view text);
+
+// The lines of `text` (a leading byte order mark dropped), without their
+// '\n' (and a trailing '\r').
 std::vector<std::string_view> SplitLines(const std::string& text);
 
 // The whitespace-separated (space, tab) fields of one line.

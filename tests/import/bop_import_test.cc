@@ -291,6 +291,28 @@ TEST_F(BopImportTest, PosesFromATrajectoryMatchedByImageTime) {
   EXPECT_EQ(report.skipped_rows, 1);
 }
 
+// A UTF-8 byte order mark (spreadsheet programs write one) at the start of
+// the CSV, the trajectory or the image times is not part of the first line.
+TEST_F(BopImportTest, ByteOrderMarksAreSkipped) {
+  const std::string bom = "\xEF\xBB\xBF";
+  LogHeader header;
+  std::vector<KeyframeInput> expected;
+  ASSERT_TRUE(ImportBop(options_, &header, &expected, nullptr).ok());
+  options_.results = Write("bom.csv", bom + kResults);
+  options_.trajectory =
+      Write("bom.tum", bom + "0.0 0 0 0 0 0 0 1\n1.0 1 0 0 0 0 0 1\n");
+  options_.image_times = Write("bom_times.txt", bom + "0 0.0\n3 1.0\n");
+  std::vector<KeyframeInput> keyframes;
+  const Status status = ImportBop(options_, &header, &keyframes, nullptr);
+  ASSERT_TRUE(status.ok()) << status.message();
+  ASSERT_EQ(keyframes.size(), expected.size());
+  for (std::size_t k = 0; k < keyframes.size(); ++k) {
+    EXPECT_EQ(keyframes[k].detections.size(), expected[k].detections.size());
+  }
+  EXPECT_EQ(keyframes[1].timestamp, 1.0);
+  EXPECT_EQ(keyframes[1].T_wc->t, Eigen::Vector3d(1, 0, 0));
+}
+
 // The w2c poses with the images' times from --image-times (no trajectory).
 TEST_F(BopImportTest, ImageTimesTimeTheSceneCameraPoses) {
   options_.image_times = Write("times.txt", "3 20.25\n0 20.0\n");

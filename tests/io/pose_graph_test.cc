@@ -287,11 +287,11 @@ TEST(PoseGraphEdgeFactor, UpperCholeskyRejectsMatricesThatAreNotDefinite) {
 // ReadG2oPoseGraph.
 
 TEST(ReadG2oPoseGraph, ReadsAHandWrittenFileExactly) {
-  // Comments, blank lines, tabs, CRLF, an edge before its vertices, a
-  // quaternion 5e-4 off unit norm, a FIX line.
+  // A UTF-8 byte order mark, comments, blank lines, tabs, CRLF, an edge
+  // before its vertices, a quaternion 5e-4 off unit norm, a FIX line.
   const std::string path = WriteTempFile(
       "hand.g2o",
-      "# written by hand\n"
+      "\xEF\xBB\xBF# written by hand\n"
       "\n"
       "EDGE_SE3:QUAT 3 -2 0.5 -1.25 2 0 0 0.6 0.8 "
       "1 0.1 0.2 0.3 0.4 0.5 2 0.6 0.7 0.8 0.9 3 1.0 1.1 1.2 4 1.3 1.4 5 1.5 "

@@ -511,7 +511,6 @@ std::string SingleHypothesisTable(const Flags& flags,
   return out.str();
 }
 
-// Acceptance of project issue 13 on the single-hypothesis set, with priors.
 // The seeds (same index, same simulated log) where `a`'s keyframe RMSE is
 // below `b`'s.
 int SeedsBelow(const std::vector<Run>& a, const std::vector<Run>& b) {
@@ -522,6 +521,7 @@ int SeedsBelow(const std::vector<Run>& a, const std::vector<Run>& b) {
   return below;
 }
 
+// Acceptance of project issue 13 on the single-hypothesis set, with priors.
 std::string SingleHypothesisChecks(const SingleHypothesisRuns& runs) {
   std::ostringstream out;
   constexpr int kWithPriors = 0;

@@ -1,5 +1,5 @@
 // Logs (LogHeader, LogReader, LogWriter, read_log, write_log), replay, the
-// TUM importer and the simulator.
+// TUM and BOP importers and the simulator.
 #include <map>
 #include <memory>
 #include <optional>
@@ -10,6 +10,7 @@
 #include "bindings.h"
 #include "convert.h"
 #include "estimates.h"
+#include "symba/import/bop_import.h"
 #include "symba/import/class_prior_spec.h"
 #include "symba/import/tum_import.h"
 #include "symba/io/log_file.h"
@@ -97,23 +98,95 @@ void DefWithImportOptions(Def def, F f, LeadArgs... lead_args) {
       py::arg("classes") = std::map<std::string, ClassPrior>());
 }
 
+// Binds `f(lead..., const BopImportOptions&)` as the Python function that
+// `def(function, args...)` defines, with the BOP importer's keyword
+// arguments after `lead_args` (import_bop and import_bop_to_log spell the
+// same names and defaults, those of `symba import bop`).
+template <typename... Lead, typename Def, typename F, typename... LeadArgs>
+void DefWithBopImportOptions(Def def, F f, LeadArgs... lead_args) {
+  def(
+      [f](Lead... lead,
+          const std::string& results,
+          const std::string& scene_camera,
+          const std::string& models_info,
+          const std::string& trajectory,
+          const std::string& image_times,
+          std::optional<int> scene,
+          const std::map<int, std::string>& class_names,
+          std::optional<double> gate,
+          bool skip_images_without_pose,
+          double time_tolerance,
+          std::optional<double> detection_sigma_t,
+          std::optional<double> detection_sigma_r) {
+        BopImportOptions options;
+        options.results = results;
+        options.scene_camera = scene_camera;
+        options.models_info = models_info;
+        options.trajectory = trajectory;
+        options.image_times = image_times;
+        options.scene = scene;
+        options.class_names = class_names;
+        options.gate = gate;
+        options.skip_images_without_pose = skip_images_without_pose;
+        options.time_tolerance = time_tolerance;
+        options.detection_sigma_t = detection_sigma_t;
+        options.detection_sigma_r = detection_sigma_r;
+        return f(std::forward<Lead>(lead)..., options);
+      },
+      lead_args...,
+      py::arg("results"),
+      py::arg("scene_camera"),
+      py::arg("models_info") = "",
+      py::arg("trajectory") = "",
+      py::arg("image_times") = "",
+      py::arg("scene") = py::none(),
+      py::arg("class_names") = std::map<int, std::string>(),
+      py::arg("gate") = py::none(),
+      py::arg("skip_images_without_pose") = false,
+      py::arg("time_tolerance") = 0.02,
+      py::arg("detection_sigma_t") = py::none(),
+      py::arg("detection_sigma_r") = py::none());
+}
+
 void BindLogs(py::module_& m) {
+  py::class_<BopSource>(m,
+                        "BopSource",
+                        "Where a log converted from BOP files came from (the "
+                        "header's \"bop\" key): the scene id and each "
+                        "class's obj_id.")
+      .def(py::init([](int scene_id, const std::map<std::string, int>& ids) {
+             return BopSource{scene_id, ids};
+           }),
+           py::arg("scene_id") = 0,
+           py::arg("obj_ids") = std::map<std::string, int>())
+      .def_readwrite("scene_id", &BopSource::scene_id)
+      .def_readwrite("obj_ids", &BopSource::obj_ids)
+      .def("__repr__", [](const BopSource& b) {
+        return "BopSource(scene_id=" + std::to_string(b.scene_id) + ", " +
+               std::to_string(b.obj_ids.size()) + " obj_ids)";
+      });
+
   py::class_<LogHeader>(m,
                         "LogHeader",
-                        "A log's header: camera intrinsics (or None) and "
-                        "class priors by class name.")
+                        "A log's header: camera intrinsics (or None), "
+                        "class priors by class name, and the BOP source "
+                        "(or None).")
       .def(py::init([](const std::optional<PinholeIntrinsics>& camera,
-                       const std::map<std::string, ClassPrior>& classes) {
+                       const std::map<std::string, ClassPrior>& classes,
+                       const std::optional<BopSource>& bop) {
              LogHeader header;
              header.camera = camera;
              header.classes = classes;
+             header.bop = bop;
              return header;
            }),
            py::arg("camera") = py::none(),
-           py::arg("classes") = std::map<std::string, ClassPrior>())
+           py::arg("classes") = std::map<std::string, ClassPrior>(),
+           py::arg("bop") = py::none())
       .def_readonly("version", &LogHeader::version)
       .def_readwrite("camera", &LogHeader::camera)
-      .def_readwrite("classes", &LogHeader::classes);
+      .def_readwrite("classes", &LogHeader::classes)
+      .def_readwrite("bop", &LogHeader::bop);
 
   py::class_<PyLogReader>(m,
                           "LogReader",
@@ -277,6 +350,52 @@ void BindImport(py::module_& m) {
         TumImportCounts counts;
         ThrowIfError(ImportTumToLog(options, log_path, &counts));
         return std::make_pair(counts.keyframes, counts.detections);
+      },
+      py::arg("log_path"));
+
+  py::class_<BopImportReport>(m,
+                              "BopImportReport",
+                              "What import_bop read: rows of the scene, "
+                              "keyframes, detections, skipped images and "
+                              "their rows, and how symmetries BOP gives that "
+                              "symba's three types cannot express exactly "
+                              "were mapped.")
+      .def_readonly("rows", &BopImportReport::rows)
+      .def_readonly("keyframes", &BopImportReport::keyframes)
+      .def_readonly("detections", &BopImportReport::detections)
+      .def_readonly("skipped_images", &BopImportReport::skipped_images)
+      .def_readonly("skipped_rows", &BopImportReport::skipped_rows)
+      .def_readonly("symmetry_notes", &BopImportReport::symmetry_notes);
+  DefWithBopImportOptions(
+      [&](auto function, auto... args) {
+        m.def("import_bop",
+              function,
+              args...,
+              "Imports a BOP results CSV with scene_camera.json (and "
+              "models_info.json, or a front end's TUM trajectory with the "
+              "image times) as `symba import bop` does; returns (LogHeader, "
+              "list[Keyframe], BopImportReport).");
+      },
+      [](const BopImportOptions& options) {
+        LogHeader header;
+        std::vector<KeyframeInput> keyframes;
+        BopImportReport report;
+        ThrowIfError(ImportBop(options, &header, &keyframes, &report));
+        return std::make_tuple(
+            std::move(header), std::move(keyframes), std::move(report));
+      });
+  DefWithBopImportOptions<const std::string&>(
+      [&](auto function, auto... args) {
+        m.def("import_bop_to_log",
+              function,
+              args...,
+              "import_bop, then writes the log atomically; returns the "
+              "BopImportReport.");
+      },
+      [](const std::string& log_path, const BopImportOptions& options) {
+        BopImportReport report;
+        ThrowIfError(ImportBopToLog(options, log_path, &report));
+        return report;
       },
       py::arg("log_path"));
 

@@ -353,13 +353,21 @@ def categorize(hypotheses: ArrayLike, weights: Optional[ArrayLike] = None,
                options: Optional[CategorizationOptions] = None,
                prior: Optional[ClassPrior] = None) -> Categorization: ...
 
+class BopSource:
+    scene_id: int
+    obj_ids: dict[str, int]
+    def __init__(self, scene_id: int = 0,
+                 obj_ids: dict[str, int] = ...) -> None: ...
+
 class LogHeader:
     @property
     def version(self) -> int: ...
     camera: Optional[PinholeIntrinsics]
     classes: dict[str, ClassPrior]
+    bop: Optional[BopSource]
     def __init__(self, camera: Optional[PinholeIntrinsics] = None,
-                 classes: dict[str, ClassPrior] = ...) -> None: ...
+                 classes: dict[str, ClassPrior] = ...,
+                 bop: Optional[BopSource] = None) -> None: ...
 
 class LogReader:
     def __init__(self, path: str) -> None: ...
@@ -418,6 +426,40 @@ def import_tum_to_log(log_path: str, trajectory: str,
                       detection_sigma_r: Optional[float] = None,
                       classes: dict[str, ClassPrior] = ...
                       ) -> tuple[int, int]: ...
+class BopImportReport:
+    @property
+    def rows(self) -> int: ...
+    @property
+    def keyframes(self) -> int: ...
+    @property
+    def detections(self) -> int: ...
+    @property
+    def skipped_images(self) -> int: ...
+    @property
+    def skipped_rows(self) -> int: ...
+    @property
+    def symmetry_notes(self) -> list[str]: ...
+
+def import_bop(results: str, scene_camera: str, models_info: str = "",
+               trajectory: str = "", image_times: str = "",
+               scene: Optional[int] = None,
+               class_names: dict[int, str] = ...,
+               gate: Optional[float] = None,
+               skip_images_without_pose: bool = False,
+               time_tolerance: float = 0.02,
+               detection_sigma_t: Optional[float] = None,
+               detection_sigma_r: Optional[float] = None
+               ) -> tuple[LogHeader, list[Keyframe], BopImportReport]: ...
+def import_bop_to_log(log_path: str, results: str, scene_camera: str,
+                      models_info: str = "", trajectory: str = "",
+                      image_times: str = "", scene: Optional[int] = None,
+                      class_names: dict[int, str] = ...,
+                      gate: Optional[float] = None,
+                      skip_images_without_pose: bool = False,
+                      time_tolerance: float = 0.02,
+                      detection_sigma_t: Optional[float] = None,
+                      detection_sigma_r: Optional[float] = None
+                      ) -> BopImportReport: ...
 def parse_class_prior(spec: str) -> tuple[str, ClassPrior]: ...
 
 class SimulatedObject:

@@ -196,3 +196,19 @@ def test_wrong_pose_and_point_arrays_are_rejected():
     assert str(error.value) == (
         'symmetry: unknown symmetry "round" (expected "asymmetric", '
         '"discrete" or "continuous")')
+
+
+def test_import_bop_raises_the_importers_messages(source_dir, tmp_path):
+    data = source_dir / "tests" / "data" / "bop"
+    bad = tmp_path / "results.csv"
+    bad.write_text("7,0,1,0.9,1 0 0 0 1 0 0 0 1,0 0 1000\n")
+    with pytest.raises(symba.Error, match=(
+            f"^{bad}:1: expected 7 comma-separated fields "
+            r"\(scene_id,im_id,obj_id,score,R,t,time\), got 6$")):
+        symba.import_bop(str(bad), str(data / "scene_camera.json"))
+    log = tmp_path / "out.jsonl"
+    with pytest.raises(symba.Error, match="^options: a trajectory needs"):
+        symba.import_bop_to_log(str(log), str(data / "results.csv"),
+                                str(data / "scene_camera.json"),
+                                trajectory=str(tmp_path / "t.tum"))
+    assert not log.exists()

@@ -1,5 +1,6 @@
 #include "symba/export/bop_export.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -37,7 +38,8 @@ Status CheckOptions(const BopExportOptions& o) {
         "got " +
         std::to_string(o.scene_id));
   }
-  if (!(o.diameter > 0.0) || !std::isfinite(o.diameter)) {
+  // Written in millimetres, so 1000 times it must be finite too.
+  if (!(o.diameter > 0.0) || !std::isfinite(1000.0 * o.diameter)) {
     return Status::Error("options: diameter: must be positive, got " +
                          FormatDouble(o.diameter));
   }
@@ -329,7 +331,18 @@ Status ExportLogToBop(const std::string& log_path,
                       "needs increasing times (scene_camera.json carries "
                       "the same poses)");
   }
-  files->emplace_back("class_names.txt", ClassNames(r.obj_ids));
+  const auto comma =
+      std::find_if(r.obj_ids.begin(), r.obj_ids.end(), [](const auto& entry) {
+        return entry.first.find(',') != std::string::npos;
+      });
+  if (comma == r.obj_ids.end()) {
+    files->emplace_back("class_names.txt", ClassNames(r.obj_ids));
+  } else {
+    r.notes.push_back("class_names.txt not written: the class \"" +
+                      comma->first +
+                      "\" has a comma, which --class-names separates "
+                      "pairs with (the import names the classes obj_<id>)");
+  }
   return Status::Ok();
 }
 
@@ -337,8 +350,10 @@ Status ExportLogToBopDirectory(const std::string& log_path,
                                const BopExportOptions& options,
                                const std::string& out_dir,
                                BopExportReport* report) {
+  Status status = CheckOutputSparesInputs(out_dir, {log_path});
+  if (!status.ok()) return status;
   std::vector<std::pair<std::string, std::string>> files;
-  const Status status = ExportLogToBop(log_path, options, &files, report);
+  status = ExportLogToBop(log_path, options, &files, report);
   if (!status.ok()) return status;
   return WriteDirectoryAtomically(out_dir, files);
 }

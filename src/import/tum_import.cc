@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "io/text_file.h"
+#include "symba/io/file_output.h"
 #include "symba/io/log_file.h"
 #include "symba/io/tum_trajectory.h"
 
@@ -146,9 +147,14 @@ Status ImportTum(const TumImportOptions& options,
 Status ImportTumToLog(const TumImportOptions& options,
                       const std::string& log_path,
                       TumImportCounts* counts) {
+  std::vector<std::string> inputs = {options.trajectory, options.first_pose};
+  for (const TumObjectFile& object : options.objects) {
+    inputs.push_back(object.path);
+  }
+  Status status = CheckOutputSparesInputs(log_path, inputs);
   LogHeader header;
   std::vector<KeyframeInput> keyframes;
-  Status status = ImportTum(options, &header, &keyframes);
+  if (status.ok()) status = ImportTum(options, &header, &keyframes);
   if (status.ok()) status = WriteLogAtomically(log_path, header, keyframes);
   if (!status.ok() || counts == nullptr) return status;
   counts->keyframes = static_cast<int>(keyframes.size());

@@ -35,9 +35,14 @@ Status WriteFile(const fs::path& path, const std::string& content) {
 Status WriteDirectoryAtomically(
     const std::string& dir_name,
     const std::vector<std::pair<std::string, std::string>>& files) {
+  if (dir_name.empty()) return Status::Error("output directory: empty path");
   std::error_code error;
   fs::path dir = fs::path(dir_name);
   if (dir.filename().empty()) dir = dir.parent_path();  // "out/" -> "out"
+  if (dir.filename() == "." || dir.filename() == "..") {
+    return Status::Error(dir_name +
+                         ": name the output directory itself, not . or ..");
+  }
   if (dir.parent_path().empty()) dir = fs::path(".") / dir;
   if (!fs::is_directory(dir.parent_path(), error)) {
     return Status::Error(dir_name + ": parent directory " +
@@ -79,8 +84,42 @@ Status WriteDirectoryAtomically(
   return Status::Ok();
 }
 
+Status CheckFileTarget(const std::string& path) {
+  if (path.empty()) return Status::Error("output file: empty path");
+  std::error_code error;
+  const fs::file_status target = fs::status(path, error);
+  if (fs::exists(target) && !fs::is_regular_file(target)) {
+    return Status::Error(path + ": exists and is not a regular file");
+  }
+  return Status::Ok();
+}
+
+Status CheckOutputSparesInputs(const std::string& output,
+                               const std::vector<std::string>& inputs) {
+  std::error_code error;
+  fs::path out = fs::weakly_canonical(output, error);
+  if (error || out.empty()) return Status::Ok();
+  if (out.filename().empty()) out = out.parent_path();  // "dir/" -> "dir"
+  for (const std::string& input : inputs) {
+    if (input.empty()) continue;
+    const fs::path in = fs::weakly_canonical(input, error);
+    if (error) continue;
+    if (in == out) return Status::Error(output + ": is the input " + input);
+    // `in` lies inside `out` when `out` is a prefix of its components.
+    auto o = out.begin();
+    auto i = in.begin();
+    while (o != out.end() && i != in.end() && *o == *i) ++o, ++i;
+    if (o == out.end() && i != in.end()) {
+      return Status::Error(output + ": holds the input " + input);
+    }
+  }
+  return Status::Ok();
+}
+
 Status WriteFileAtomically(const std::string& path,
                            const std::string& content) {
+  Status checked = CheckFileTarget(path);
+  if (!checked.ok()) return checked;
   std::error_code error;
   const fs::path target(path);
   const fs::path temporary = SiblingPath(target, "tmp");

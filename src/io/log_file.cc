@@ -8,11 +8,15 @@
 #include <fstream>
 #include <memory>
 
+#include "symba/io/file_output.h"
+
 namespace symba {
 
 Status WriteLogAtomically(const std::string& path,
                           const LogHeader& header,
                           const std::function<const KeyframeInput*()>& next) {
+  Status checked = CheckFileTarget(path);
+  if (!checked.ok()) return checked;
   const std::string temporary =
       path + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
   Status status;

@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "symba/export/bop_export.h"
+#include "symba/io/file_output.h"
 #include "tools/commands.h"
 
 namespace {
@@ -30,8 +31,12 @@ int Fail(const std::string& message) {
 
 int RunExportBop(ExportBopFlags f) {
   if (!f.gt_objects.empty()) {
-    const symba::Status status = symba::ClassSymmetriesFromGroundTruth(
-        f.gt_objects, &f.options.symmetries);
+    symba::Status status =
+        symba::CheckOutputSparesInputs(f.out, {f.gt_objects});
+    if (status.ok()) {
+      status = symba::ClassSymmetriesFromGroundTruth(f.gt_objects,
+                                                     &f.options.symmetries);
+    }
     if (!status.ok()) return Fail(status.message());
   }
   symba::BopExportReport report;

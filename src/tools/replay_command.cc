@@ -259,6 +259,17 @@ symba::Status CheckParentExists(const std::string& path) {
   return symba::Status::Ok();
 }
 
+// Whether two paths name the same place (neither needs to exist).
+bool SamePath(const std::string& a, const std::string& b) {
+  std::error_code error_a;
+  std::error_code error_b;
+  const std::filesystem::path path_a =
+      std::filesystem::weakly_canonical(a, error_a);
+  const std::filesystem::path path_b =
+      std::filesystem::weakly_canonical(b, error_b);
+  return !error_a && !error_b && path_a == path_b;
+}
+
 // --bop-out's rows (none without it), computed before any output is
 // written, so that an unmapped class or a missing scene id leaves no file.
 symba::Status RefinedBopRows(const ReplayFlags& f,
@@ -266,6 +277,11 @@ symba::Status RefinedBopRows(const ReplayFlags& f,
                              std::vector<symba::BopResult>* rows) {
   if (f.bop_out.empty()) return symba::Status::Ok();
   symba::Status status = CheckParentExists(f.bop_out);
+  if (status.ok()) status = symba::CheckFileTarget(f.bop_out);
+  if (status.ok()) status = symba::CheckOutputSparesInputs(f.bop_out, {f.log});
+  if (status.ok() && SamePath(f.bop_out, f.out)) {
+    status = symba::Status::Error(f.bop_out + ": is also --out");
+  }
   if (!status.ok()) return status;
   symba::RefinedBopResultsOptions options;
   if (f.bop_scene >= 0) options.scene_id = f.bop_scene;
@@ -289,7 +305,9 @@ int RunPoseGraphReplay(const ReplayFlags& f) {
   options.num_threads = f.backend.num_threads;
   symba::G2oReadOptions read_options;
   read_options.isotropic_information = f.g2o_isotropic;
-  symba::Status status = symba::ReadG2oPoseGraph(f.log, &graph, read_options);
+  symba::Status status = symba::CheckOutputSparesInputs(f.out, {f.log});
+  if (status.ok())
+    status = symba::ReadG2oPoseGraph(f.log, &graph, read_options);
   if (status.ok()) status = symba::OptimizePoseGraph(options, &graph, &summary);
   if (status.ok()) {
     status = symba::WriteDirectoryAtomically(
@@ -329,7 +347,8 @@ int RunReplay(const ReplayFlags& f) {
     };
   }
   symba::ReplayResult result;
-  symba::Status status = symba::ReplayLog(f.log, options, &result);
+  symba::Status status = symba::CheckOutputSparesInputs(f.out, {f.log});
+  if (status.ok()) status = symba::ReplayLog(f.log, options, &result);
   if (show_progress) std::fprintf(stderr, "\n");
   std::vector<symba::BopResult> bop_rows;
   if (status.ok()) status = RefinedBopRows(f, result, &bop_rows);

@@ -455,6 +455,37 @@ TEST(ExportLogToBop, RepeatedTimesLeaveOutTheTumTrajectoryWithANote) {
   }
 }
 
+// --class-names separates its pairs with commas, so a class name with one
+// cannot be written there: class_names.txt is left out with a note (the
+// import then names the classes obj_<id>). An output directory that holds
+// the log is refused: replacing it would delete the log.
+TEST(ExportLogToBop, ACommaInAClassNameAndAnOutputHoldingTheLog) {
+  const fs::path dir = FreshDir("comma");
+  LogHeader header;
+  header.camera = PinholeIntrinsics{500.0, 500.0, 320.0, 240.0};
+  KeyframeInput keyframe;
+  keyframe.T_wc = Rigid3d();
+  DetectionInput detection;
+  detection.class_name = "a,b";
+  detection.hypotheses = {{Rigid3d(), 1.0}};
+  keyframe.detections = {detection};
+  const std::string log = (dir / "comma.jsonl").string();
+  ASSERT_TRUE(WriteLogAtomically(log, header, {keyframe}).ok());
+  BopExportReport report;
+  const std::string out = (dir / "bop").string();
+  ASSERT_TRUE(ExportLogToBopDirectory(log, {}, out, &report).ok());
+  EXPECT_FALSE(fs::exists(fs::path(out) / "class_names.txt"));
+  ASSERT_EQ(report.notes.size(), 2u);
+  EXPECT_EQ(report.notes[1],
+            "class_names.txt not written: the class \"a,b\" has a comma, "
+            "which --class-names separates pairs with (the import names the "
+            "classes obj_<id>)");
+
+  EXPECT_EQ(ExportLogToBopDirectory(log, {}, dir.string(), nullptr).message(),
+            dir.string() + ": holds the input " + log);
+  EXPECT_TRUE(fs::exists(log));
+}
+
 TEST(ExportLogToBop, EachBadInputIsNamedAndNothingIsWritten) {
   const fs::path dir = FreshDir("errors");
   const std::string out = (dir / "bop").string();
@@ -469,6 +500,9 @@ TEST(ExportLogToBop, EachBadInputIsNamedAndNothingIsWritten) {
   options.diameter = 0.0;
   EXPECT_EQ(failure(log, options),
             "options: diameter: must be positive, got 0");
+  options.diameter = 1e306;  // 1e309 mm is no double
+  EXPECT_EQ(failure(log, options),
+            "options: diameter: must be positive, got 1e+306");
   options = BopExportOptions();
   options.scene_id = -1;
   EXPECT_EQ(failure(log, options),

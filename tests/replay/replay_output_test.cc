@@ -1,5 +1,7 @@
 #include "symba/replay/replay_output.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -219,6 +221,45 @@ TEST(ReplayOutputTest, AMissingParentIsAnErrorAndCreatesNothing) {
             out.string() + ": parent directory " +
                 (temp.path() / "missing").string() + " does not exist");
   EXPECT_TRUE(temp.Entries().empty());
+}
+
+// Outputs that are not files symba may replace whole: nothing is written
+// and the message names the path. (Renaming a new file over /dev/null, as
+// root, would have replaced the device.)
+TEST(ReplayOutputTest, OnlyRegularFilesAndNamedDirectoriesAreReplaced) {
+  TempDir temp;
+  const fs::path fifo = temp.path() / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(WriteFileAtomically(fifo.string(), "x").message(),
+            fifo.string() + ": exists and is not a regular file");
+  EXPECT_EQ(WriteFileAtomically(temp.path().string(), "x").message(),
+            temp.path().string() + ": exists and is not a regular file");
+  EXPECT_EQ(WriteFileAtomically("", "x").message(), "output file: empty path");
+  EXPECT_EQ(WriteDirectoryAtomically("", {}).message(),
+            "output directory: empty path");
+  const std::string dot = (temp.path() / ".").string();
+  EXPECT_EQ(WriteDirectoryAtomically(dot, {}).message(),
+            dot + ": name the output directory itself, not . or ..");
+  EXPECT_EQ(temp.Entries(), std::vector<std::string>{"fifo"});
+  EXPECT_TRUE(fs::is_fifo(fifo));
+}
+
+TEST(ReplayOutputTest, AnOutputMustNotBeOrHoldAnInput) {
+  TempDir temp;
+  const fs::path dir = temp.path() / "run";
+  fs::create_directory(dir);
+  const std::string log = (dir / "log.jsonl").string();
+  std::ofstream(log) << "{}\n";
+  // The same file by another spelling; an input inside the directory.
+  const std::string same = (dir / ".." / "run" / "log.jsonl").string();
+  EXPECT_EQ(CheckOutputSparesInputs(same, {"", log}).message(),
+            same + ": is the input " + log);
+  EXPECT_EQ(CheckOutputSparesInputs(dir.string() + "/", {log}).message(),
+            dir.string() + "/: holds the input " + log);
+  EXPECT_TRUE(CheckOutputSparesInputs((dir / "out").string(), {log}).ok());
+  EXPECT_TRUE(
+      CheckOutputSparesInputs((temp.path() / "ru").string(), {log}).ok())
+      << "a directory whose name is a prefix of the input's is not its parent";
 }
 
 }  // namespace

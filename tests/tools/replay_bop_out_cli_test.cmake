@@ -137,6 +137,44 @@ foreach(case "no_scene;;no BOP scene id: the log header has no \"bop\" key"
   endif()
 endforeach()
 
+# Outputs that would destroy an input or are no file: --bop-out onto the
+# log, --bop-out a directory, --out holding the log. Exit 1, the message,
+# the log untouched and no replay directory.
+file(MAKE_DIRECTORY ${WORK_DIR}/a_directory ${WORK_DIR}/holder)
+file(COPY_FILE ${log} ${WORK_DIR}/holder/scene7.jsonl)
+file(SHA256 ${log} log_hash)
+foreach(case "onto_log;${log};${WORK_DIR}/onto_log;${log}: is the input"
+              "dir;${WORK_DIR}/a_directory;${WORK_DIR}/dir;exists and is not a regular file"
+              "holder;${WORK_DIR}/holder.csv;${WORK_DIR}/holder;holds the input")
+  list(GET case 0 name)
+  list(GET case 1 bop_out)
+  list(GET case 2 out)
+  list(GET case 3 expected_message)
+  set(input ${log})
+  if(name STREQUAL "holder")
+    set(input ${WORK_DIR}/holder/scene7.jsonl)
+  endif()
+  execute_process(COMMAND ${SYMBA} replay ${input} --out ${out}
+      --bop-out ${bop_out} --quiet
+    RESULT_VARIABLE rc ERROR_VARIABLE stderr)
+  if(NOT rc EQUAL 1)
+    message(FATAL_ERROR "${name}: exit 1 expected, got ${rc}: ${stderr}")
+  endif()
+  string(FIND "${stderr}" "${expected_message}" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "${name}: expected \"${expected_message}\": ${stderr}")
+  endif()
+  if(NOT name STREQUAL "holder" AND EXISTS ${out})
+    message(FATAL_ERROR "${name}: a failed replay wrote ${out}")
+  endif()
+endforeach()
+file(SHA256 ${log} log_hash_after)
+if(NOT log_hash STREQUAL log_hash_after
+   OR NOT EXISTS ${WORK_DIR}/holder/scene7.jsonl
+   OR EXISTS ${WORK_DIR}/holder.csv)
+  message(FATAL_ERROR "a refused replay changed its input or wrote --bop-out")
+endif()
+
 # symba export bop on the imported log: the six files, every hypothesis a
 # row (17), and the import of the export gives the same 16 detections; an
 # output directory whose parent is missing: exit 1, nothing written.

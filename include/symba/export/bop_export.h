@@ -24,7 +24,9 @@
 //   frontend.tum        the front end's T_wc per image, a TUM trajectory;
 //                       not written (a note says why) when two keyframes
 //                       share a time, which a log allows and TUM does not
-//   class_names.txt     "1=table,2=mug": the --class-names of the import
+//   class_names.txt     "1=table,2=mug": the --class-names of the import;
+//                       not written (a note says why) when a class name
+//                       has a comma, which --class-names cannot carry
 // The front end's pose of a keyframe is its T_wc, else the previous one's
 // composed with its odometry (T_wc(k) = T_wc(k-1) T_{k-1,k}). Object ids
 // are 1, 2, ... over the class names in byte order (the header's classes
@@ -63,7 +65,8 @@ struct BopExportReport {
   std::map<std::string, int> obj_ids;  // class name -> obj_id
   // Classes whose symmetry is unknown or lacks its axis, one sentence each
   // (written without symmetries, which BOP reads as asymmetric), and
-  // frontend.tum left out when keyframe times repeat.
+  // frontend.tum left out when keyframe times repeat, class_names.txt when
+  // a class name has a comma.
   std::vector<std::string> notes;
 };
 

@@ -357,7 +357,8 @@ void BindImport(py::module_& m) {
                               "BopImportReport",
                               "What import_bop read: rows of the scene, "
                               "keyframes, detections, skipped images and "
-                              "their rows, and how symmetries BOP gives that "
+                              "their rows, rows of other scenes, and how "
+                              "symmetries BOP gives that "
                               "symba's three types cannot express exactly "
                               "were mapped.")
       .def_readonly("rows", &BopImportReport::rows)
@@ -365,6 +366,7 @@ void BindImport(py::module_& m) {
       .def_readonly("detections", &BopImportReport::detections)
       .def_readonly("skipped_images", &BopImportReport::skipped_images)
       .def_readonly("skipped_rows", &BopImportReport::skipped_rows)
+      .def_readonly("other_scene_rows", &BopImportReport::other_scene_rows)
       .def_readonly("symmetry_notes", &BopImportReport::symmetry_notes);
   DefWithBopImportOptions(
       [&](auto function, auto... args) {

@@ -28,12 +28,14 @@ struct BopResultRow {
   int line = 0;  // 1-based
 };
 
-// Reads the CSV (an optional header line starting with "scene_id"; blank
-// lines skipped). With `scene` set, rows of other scenes are skipped;
+// Reads the CSV (an optional header line, which starts with "scene_id" and
+// must name the seven columns; blank lines skipped). With `scene` set, rows
+// of other scenes are skipped and counted in `other_scene_rows` (optional);
 // without it every row must be of the first row's scene.
 Status ReadBopResults(const std::string& path,
                       const std::optional<int>& scene,
-                      std::vector<BopResultRow>* rows);
+                      std::vector<BopResultRow>* rows,
+                      int* other_scene_rows = nullptr);
 
 // One image of scene_camera.json.
 struct BopImage {

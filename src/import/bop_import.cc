@@ -3,22 +3,84 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <string>
+#include <string_view>
+#include <unordered_map>
 #include <utility>
+#include <vector>
 
 #include "import/bop_files.h"
 #include "import/bop_source.h"
 #include "io/text_file.h"
+#include "symba/io/file_output.h"
 #include "symba/io/log_file.h"
 #include "symba/io/tum_trajectory.h"
 
 namespace symba {
 namespace import_internal {
 
+namespace {
+
+// The two forms of an image times file; the first data line decides.
+enum class TimesForm { kUnknown, kIdTime, kRgbTxt };
+
+// A TUM rgb.txt file name ("rgb/1305031102.175304.png"): it has an
+// extension or a directory, which a misread number ("0,033") has not.
+bool LooksLikeFileName(std::string_view field) {
+  return field.find_first_of("./") != std::string_view::npos;
+}
+
+// One data line in `form` (decided from it when unknown); the error names
+// the line and the form that the first data line set.
+Status ParseTimeLine(const std::string& path,
+                     int line,
+                     const std::vector<std::string_view>& f,
+                     int form_line,
+                     TimesForm* form,
+                     ImageTime* time) {
+  double number = 0.0;
+  const bool id_time = f.size() == 2 && internal::ParseDouble(f[1], &number) &&
+                       internal::ParseInteger(f[0], &time->im_id) &&
+                       time->im_id >= 0;
+  const bool rgb_txt = f.size() == 2 &&
+                       internal::ParseDouble(f[0], &time->timestamp) &&
+                       LooksLikeFileName(f[1]);
+  if (*form == TimesForm::kUnknown) {
+    if (id_time) *form = TimesForm::kIdTime;
+    if (!id_time && rgb_txt) *form = TimesForm::kRgbTxt;
+  }
+  if (*form == TimesForm::kIdTime && id_time) {
+    time->timestamp = number;
+    return Status::Ok();
+  }
+  if (*form == TimesForm::kRgbTxt && rgb_txt) return Status::Ok();
+  const std::string at = internal::At(path, line);
+  switch (*form) {
+    case TimesForm::kIdTime:
+      return Status::Error(at + ": expected \"im_id timestamp\" as on line " +
+                           std::to_string(form_line) +
+                           " (a non-negative integer and a number)");
+    case TimesForm::kRgbTxt:
+      return Status::Error(at + ": expected \"timestamp filename\" (TUM " +
+                           "rgb.txt) as on line " + std::to_string(form_line));
+    case TimesForm::kUnknown:
+      break;
+  }
+  return Status::Error(at +
+                       ": expected \"im_id timestamp\" or \"timestamp "
+                       "filename\" (TUM rgb.txt)");
+}
+
+}  // namespace
+
 Status ReadImageTimes(const std::string& path, std::vector<ImageTime>* times) {
   std::string text;
   Status status = internal::ReadText(path, &text);
   if (!status.ok()) return status;
   times->clear();
+  TimesForm form = TimesForm::kUnknown;
+  int form_line = 0;
+  std::unordered_map<int, int> line_of_image;
   const std::vector<std::string_view> lines = internal::SplitLines(text);
   for (std::size_t i = 0; i < lines.size(); ++i) {
     const int line = static_cast<int>(i) + 1;
@@ -26,32 +88,20 @@ Status ReadImageTimes(const std::string& path, std::vector<ImageTime>* times) {
         lines[i].find_first_not_of(" \t") == lines[i].find('#')) {
       continue;
     }
-    const std::vector<std::string_view> f = internal::SplitFields(lines[i]);
     ImageTime time;
     time.line = line;
-    double second = 0.0;
-    if (f.size() == 2 && internal::ParseDouble(f[1], &second)) {
-      // "im_id timestamp"
-      time.timestamp = second;
-      if (!internal::ParseInteger(f[0], &time.im_id) || time.im_id < 0) {
-        return Status::Error(internal::At(path, line) +
-                             ": expected \"im_id timestamp\" with a "
-                             "non-negative integer im_id");
-      }
-    } else if (f.size() == 2 && internal::ParseDouble(f[0], &time.timestamp)) {
-      // rgb.txt: "timestamp filename"
+    if (form_line == 0) form_line = line;
+    status = ParseTimeLine(
+        path, line, internal::SplitFields(lines[i]), form_line, &form, &time);
+    if (!status.ok()) return status;
+    if (form == TimesForm::kRgbTxt) {
       time.im_id = static_cast<int>(times->size());
-    } else {
-      return Status::Error(internal::At(path, line) +
-                           ": expected \"im_id timestamp\" or \"timestamp "
-                           "filename\" (TUM rgb.txt)");
     }
-    for (const ImageTime& other : *times) {
-      if (other.im_id == time.im_id) {
-        return Status::Error(internal::At(path, line) + ": image " +
-                             std::to_string(time.im_id) + " already at line " +
-                             std::to_string(other.line));
-      }
+    const auto [it, inserted] = line_of_image.emplace(time.im_id, line);
+    if (!inserted) {
+      return Status::Error(internal::At(path, line) + ": image " +
+                           std::to_string(time.im_id) + " already at line " +
+                           std::to_string(it->second));
     }
     times->push_back(time);
   }
@@ -78,15 +128,22 @@ Status CheckOptions(const BopImportOptions& o) {
     return Status::Error("options: a trajectory needs the image times");
   }
   if (o.gate && !(*o.gate > 0.0 && std::isfinite(*o.gate))) {
-    return Status::Error("gate: must be positive");
+    return Status::Error("options: gate: must be positive and finite, got " +
+                         internal::Approx(*o.gate));
   }
   if (!(o.time_tolerance >= 0.0 && std::isfinite(o.time_tolerance))) {
-    return Status::Error("time tolerance: must be finite and >= 0");
+    return Status::Error(
+        "options: time tolerance: must be finite and >= 0, got " +
+        internal::Approx(o.time_tolerance));
   }
-  for (const std::optional<double>& sigma :
-       {o.detection_sigma_t, o.detection_sigma_r}) {
+  const std::pair<const char*, std::optional<double>> sigmas[] = {
+      {"detection sigma_t", o.detection_sigma_t},
+      {"detection sigma_r", o.detection_sigma_r}};
+  for (const auto& [name, sigma] : sigmas) {
     if (sigma && !(*sigma > 0.0 && std::isfinite(*sigma))) {
-      return Status::Error("detection sigma: must be positive");
+      return Status::Error(std::string("options: ") + name +
+                           ": must be positive and finite, got " +
+                           internal::Approx(*sigma));
     }
   }
   return Status::Ok();
@@ -406,8 +463,8 @@ Status ReadScene(const BopImportOptions& options,
   }
   std::vector<BopResultRow>& rows = scene->rows;
   if (status.ok()) {
-    status =
-        import_internal::ReadBopResults(options.results, options.scene, &rows);
+    status = import_internal::ReadBopResults(
+        options.results, options.scene, &rows, &r.other_scene_rows);
   }
   std::vector<ImageTime> times;
   if (status.ok() && !options.image_times.empty()) {
@@ -531,8 +588,15 @@ Status ImportBopToLog(const BopImportOptions& options,
   BopImportReport local;
   BopImportReport& r = report != nullptr ? *report : local;
   r = BopImportReport();
+  Status status = CheckOutputSparesInputs(log_path,
+                                          {options.results,
+                                           options.scene_camera,
+                                           options.models_info,
+                                           options.trajectory,
+                                           options.image_times});
+  if (!status.ok()) return status;
   BopScene scene;
-  Status status = ReadScene(options, &scene, &r);
+  status = ReadScene(options, &scene, &r);
   LogHeader header;
   if (status.ok()) status = MakeHeader(options, scene, &header, &r);
   if (!status.ok()) return status;

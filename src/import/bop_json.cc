@@ -139,11 +139,12 @@ Status ContinuousSymmetries(const JsonTreeReader& r,
     if (!status.ok()) break;
     BopContinuousSymmetry symmetry;
     symmetry.axis = Eigen::Vector3d(a[0], a[1], a[2]);
-    if (!(symmetry.axis.norm() > 0.0)) {
+    // stableNorm: an axis of 1e200 (or 1e-200) still has a direction.
+    if (!(symmetry.axis.stableNorm() > 0.0)) {
       status = r.Fail(element.Member("axis"), "must not be zero");
       break;
     }
-    symmetry.axis.normalize();
+    symmetry.axis.stableNormalize();
     const Index offset = r.Find(e, "offset");
     if (offset != 0) {
       double o[3];

@@ -16,6 +16,7 @@
 #include <Eigen/Geometry>
 
 #include "import/bop_files.h"
+#include "io/json_tree_reader.h"
 #include "io/text_file.h"
 
 namespace symba::import_internal {
@@ -89,13 +90,13 @@ Status ParseRow(const std::string& path,
   for (int i = 0; i < 3; ++i) {
     if (!ParseId(f[i], ids[i])) {
       return Status::Error(At(path, line) + ": " + names[i] +
-                           ": expected a non-negative integer, got \"" +
-                           std::string(f[i]) + "\"");
+                           ": expected a non-negative integer, got " +
+                           io_internal::QuoteForMessage(f[i]));
     }
   }
   if (!internal::ParseDouble(f[3], &row->score)) {
-    return Status::Error(At(path, line) + ": score: expected a number, got \"" +
-                         std::string(f[3]) + "\"");
+    return Status::Error(At(path, line) + ": score: expected a number, got " +
+                         io_internal::QuoteForMessage(f[3]));
   }
   double r[9];
   double t[3];
@@ -109,8 +110,8 @@ Status ParseRow(const std::string& path,
                          ": t: expected 3 space-separated numbers (mm)");
   }
   if (!internal::ParseDouble(f[6], &time)) {
-    return Status::Error(At(path, line) + ": time: expected a number, got \"" +
-                         std::string(f[6]) + "\"");
+    return Status::Error(At(path, line) + ": time: expected a number, got " +
+                         io_internal::QuoteForMessage(f[6]));
   }
   const Eigen::Matrix3d R =
       Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(r);
@@ -124,6 +125,27 @@ Status ParseRow(const std::string& path,
                       Eigen::Vector3d(t[0], t[1], t[2]) / 1000.0);
   row->line = line;
   return Status::Ok();
+}
+
+// A first line that starts with "scene_id" is the header and must name the
+// seven columns (a file with old Mac line ends, '\r' only, is one line).
+Status CheckHeader(const std::string& path, int line, std::string_view text) {
+  std::string_view f[8];
+  const int n = SplitCsv(text, f);
+  std::string_view columns = kColumns;
+  bool same = n == 7;
+  for (int i = 0; same && i < 7; ++i) {
+    const std::size_t comma = columns.find(',');
+    same = f[i] == columns.substr(0, comma);
+    columns.remove_prefix(std::min(comma + 1, columns.size()));
+  }
+  if (same) return Status::Ok();
+  return Status::Error(
+      At(path, line) + ": a header line must be " + std::string(kColumns) +
+      (text.find('\r') != std::string_view::npos
+           ? " (this line holds a carriage return: lines must end with \\n "
+             "or \\r\\n)"
+           : ""));
 }
 
 // Asks Linux to back [data, data + bytes) with 2 MB pages where its
@@ -145,15 +167,6 @@ void AdviseHugePages(const void* data, std::size_t bytes) {
 #endif
 }
 
-// The file's size, or 0 when unknown (a pipe).
-std::size_t FileSize(std::ifstream* in) {
-  in->seekg(0, std::ios::end);
-  const std::streamoff size = in->tellg();
-  in->clear();
-  in->seekg(0);
-  return size > 0 ? static_cast<std::size_t>(size) : 0;
-}
-
 // Calls on_line(line number from 1, line without '\n' and a trailing '\r',
 // the first without a byte order mark) for each line of `in` until it
 // returns an error; a last line without '\n' counts when not empty. The
@@ -169,7 +182,11 @@ Status ForEachLine(const std::string& path, std::ifstream* in, OnLine on_line) {
     if (end == buffer.size()) buffer.resize(2 * buffer.size());
     in->read(buffer.data() + end,
              static_cast<std::streamsize>(buffer.size() - end));
-    if (in->bad()) return Status::Error(path + ": cannot read");
+    // A read that stops short of the buffer has met the end (eof); one
+    // that fails otherwise would be repeated for ever.
+    if (in->bad() || (in->fail() && !in->eof())) {
+      return Status::Error(path + ": cannot read");
+    }
     end += static_cast<std::size_t>(in->gcount());
     eof = in->eof();
     std::string_view rest(buffer.data(), end);
@@ -193,21 +210,24 @@ Status ForEachLine(const std::string& path, std::ifstream* in, OnLine on_line) {
 
 Status ReadBopResults(const std::string& path,
                       const std::optional<int>& scene,
-                      std::vector<BopResultRow>* rows) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status::Error(path + ": cannot open");
+                      std::vector<BopResultRow>* rows,
+                      int* other_scene_rows) {
+  std::ifstream in;
+  Status opened = internal::OpenForReading(path, &in);
+  if (!opened.ok()) return opened;
   rows->clear();
   // Rows are at least ~40 bytes; most are three times that.
-  rows->reserve(FileSize(&in) / 120);
+  rows->reserve(internal::StreamSize(&in) / 120);
   AdviseHugePages(rows->data(), rows->capacity() * sizeof(BopResultRow));
   bool first = true;
   std::optional<int> only_scene = scene;
-  return ForEachLine(
-      path, &in, [&](int line, std::string_view current) -> Status {
+  int skipped = 0;  // with `scene`: rows of other scenes
+  Status status =
+      ForEachLine(path, &in, [&](int line, std::string_view current) -> Status {
         if (internal::IsBlank(current)) return Status::Ok();
         if (first && Trim(current).substr(0, 8) == "scene_id") {
           first = false;
-          return Status::Ok();
+          return CheckHeader(path, line, current);
         }
         first = false;
         BopResultRow row;
@@ -215,7 +235,10 @@ Status ReadBopResults(const std::string& path,
         if (!status.ok()) return status;
         if (!only_scene) only_scene = row.scene_id;
         if (row.scene_id != *only_scene) {
-          if (scene) return Status::Ok();
+          if (scene) {
+            ++skipped;
+            return Status::Ok();
+          }
           return Status::Error(
               At(path, line) + ": scene " + std::to_string(row.scene_id) +
               " after scene " + std::to_string(*only_scene) +
@@ -224,6 +247,8 @@ Status ReadBopResults(const std::string& path,
         rows->push_back(row);
         return Status::Ok();
       });
+  if (other_scene_rows != nullptr) *other_scene_rows = skipped;
+  return status;
 }
 
 }  // namespace symba::import_internal

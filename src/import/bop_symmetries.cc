@@ -33,6 +33,14 @@ Eigen::Vector3d Canonical(const Eigen::Vector3d& axis) {
   return axis[largest] < 0.0 ? Eigen::Vector3d(-axis) : axis;
 }
 
+// A distance in metres as "N mm" for a note; any double, however large.
+std::string Millimetres(double metres) {
+  std::ostringstream out;
+  out.precision(metres < 1e3 ? 6 : 3);
+  out << std::round(1000.0 * metres) << " mm";
+  return out.str();
+}
+
 std::string Format(const Eigen::Vector3d& v) {
   std::ostringstream out;
   out.precision(3);
@@ -60,19 +68,27 @@ int CyclicOrder(std::vector<double> angles) {
 }
 
 // The largest cyclic subgroup the angles contain: the largest n such that
-// every 2 pi k / n (k = 1..n-1) is among them (1 if none).
-int LargestCyclicSubgroup(const std::vector<double>& angles) {
+// every 2 pi k / n (k = 1..n-1) is among them (1 if none). Its generator
+// 2 pi / n is one of the angles, so each angle a nominates n = 2 pi / a
+// (rounded) and only those are checked, by binary search: O(N n log N)
+// rather than trying every n up to N + 1.
+int LargestCyclicSubgroup(std::vector<double> angles) {
+  std::sort(angles.begin(), angles.end());
   auto contains = [&](double angle) {
-    return std::any_of(angles.begin(), angles.end(), [&](double a) {
-      return std::abs(a - angle) <= kAngleTolerance;
-    });
+    const auto it =
+        std::lower_bound(angles.begin(), angles.end(), angle - kAngleTolerance);
+    return it != angles.end() && *it <= angle + kAngleTolerance;
   };
-  for (int n = static_cast<int>(angles.size()) + 1; n >= 2; --n) {
+  const long most = static_cast<long>(angles.size()) + 1;
+  int best = 1;
+  for (const double a : angles) {
+    const long n = std::lround(2.0 * kPi / a);
+    if (n <= best || n > most) continue;
     bool all = true;
-    for (int k = 1; k < n && all; ++k) all = contains(2.0 * kPi * k / n);
-    if (all) return n;
+    for (long k = 1; k < n && all; ++k) all = contains(2.0 * kPi * k / n);
+    if (all) best = static_cast<int>(n);
   }
-  return 1;
+  return best;
 }
 
 std::vector<AxisGroup> GroupByAxis(const std::vector<Rigid3d>& discrete) {
@@ -122,9 +138,8 @@ ClassPrior Continuous(const std::vector<BopContinuousSymmetry>& continuous,
   }
   if (continuous[0].offset.norm() > kOffsetTolerance) {
     parts.push_back("its axis passes " +
-                    std::to_string(static_cast<int>(
-                        std::round(1000.0 * continuous[0].offset.norm()))) +
-                    " mm from the model's origin, symba's through it");
+                    Millimetres(continuous[0].offset.norm()) +
+                    " from the model's origin, symba's through it");
   }
   for (const std::string& part : parts) {
     *note += (note->empty() ? "" : "; ") + part;
@@ -149,8 +164,8 @@ ClassPrior MapBopSymmetries(
   const std::string offset_note =
       offset > kOffsetTolerance
           ? "; its symmetries move the model's origin by up to " +
-                std::to_string(static_cast<int>(std::round(1000.0 * offset))) +
-                " mm (the axis misses the origin, symba's passes through it)"
+                Millimetres(offset) +
+                " (the axis misses the origin, symba's passes through it)"
           : "";
   if (groups.size() == 1) {
     const int order = CyclicOrder(groups[0].angles);

@@ -534,8 +534,9 @@ LogReader::~LogReader() = default;
 
 Status LogReader::Open(const std::string& path,
                        std::unique_ptr<LogReader>* reader) {
-  auto file = std::make_unique<std::ifstream>(path, std::ios::binary);
-  if (!file->is_open()) return Status::Error(path + ": cannot open");
+  auto file = std::make_unique<std::ifstream>();
+  Status status = internal::OpenForReading(path, file.get());
+  if (!status.ok()) return status;
   return OpenStream(std::move(file), path, reader);
 }
 

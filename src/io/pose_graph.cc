@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string_view>
@@ -143,6 +144,10 @@ Status ParsePose(const LineParser& parser,
 Status ReadG2oPoseGraph(const std::string& path,
                         PoseGraph* graph,
                         const G2oReadOptions& options) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    return Status::Error(path + ": is a directory");
+  }
   std::ifstream in(path);
   if (!in) {
     return Status::Error(path + ": cannot open (" + std::strerror(errno) + ")");

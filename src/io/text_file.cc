@@ -2,27 +2,48 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
 namespace symba::internal {
 
+Status OpenForReading(const std::string& path, std::ifstream* in) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    return Status::Error(path + ": is a directory");
+  }
+  in->open(path, std::ios::binary);
+  if (!*in) return Status::Error(path + ": cannot open");
+  return Status::Ok();
+}
+
+std::size_t StreamSize(std::ifstream* in) {
+  in->seekg(0, std::ios::end);
+  const std::streamoff size =
+      *in ? static_cast<std::streamoff>(in->tellg()) : std::streamoff(-1);
+  in->clear();
+  if (size < 0) return 0;  // not seekable: nothing was moved
+  in->seekg(0);
+  return static_cast<std::size_t>(size);
+}
+
 Status ReadText(const std::string& path, std::string* text) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return Status::Error(path + ": cannot open");
+  std::ifstream in;
+  Status status = OpenForReading(path, &in);
+  if (!status.ok()) return status;
   // One read of the whole size (a byte-by-byte copy is 10x slower on the
   // 100 MB files detectors write); a stream without a size (a pipe) is read
   // to its end.
-  const std::streamoff size = in.tellg();
-  if (size >= 0) {
-    text->resize(static_cast<std::size_t>(size));
-    in.seekg(0);
-    in.read(text->data(), size);
-    if (in.gcount() != size) return Status::Error(path + ": cannot read");
+  const std::size_t size = StreamSize(&in);
+  if (size > 0) {
+    text->resize(size);
+    in.read(text->data(), static_cast<std::streamsize>(size));
+    if (static_cast<std::size_t>(in.gcount()) != size) {
+      return Status::Error(path + ": cannot read");
+    }
     return Status::Ok();
   }
-  in.clear();
-  in.seekg(0);
   text->assign(std::istreambuf_iterator<char>(in),
                std::istreambuf_iterator<char>());
   if (in.bad()) return Status::Error(path + ": cannot read");

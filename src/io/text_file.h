@@ -6,6 +6,7 @@
 #define SYMBA_SRC_IO_TEXT_FILE_H_
 
 #include <charconv>
+#include <fstream>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -15,7 +16,16 @@
 
 namespace symba::internal {
 
-// The whole file as bytes; "PATH: cannot open" / "PATH: cannot read".
+// Opens `path` for binary reading: "PATH: is a directory" /
+// "PATH: cannot open".
+Status OpenForReading(const std::string& path, std::ifstream* in);
+
+// The size of the file `in` reads, or 0 when it has none (a pipe); the
+// stream is left at its start and in a good state.
+std::size_t StreamSize(std::ifstream* in);
+
+// The whole file as bytes, a pipe included; OpenForReading's errors and
+// "PATH: cannot read".
 Status ReadText(const std::string& path, std::string* text);
 
 // `text` without a leading UTF-8 byte order mark (EF BB BF), which some

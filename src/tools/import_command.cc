@@ -42,8 +42,10 @@ struct DetectionSigmaFlags {
   }
   void Apply(std::optional<double>* sigma_t,
              std::optional<double>* sigma_r) const {
-    if (t > 0.0) *sigma_t = t;
-    if (r > 0.0) *sigma_r = r;
+    // != rather than >: a "nan" the parser let through reaches the
+    // importer's own check instead of meaning "not given".
+    if (t != 0.0) *sigma_t = t;
+    if (r != 0.0) *sigma_r = r;
   }
 };
 
@@ -105,7 +107,7 @@ int RunImportBop(ImportBopFlags f) {
     if (!status.ok()) return Fail("bop", status.message());
   }
   if (f.scene >= 0) f.options.scene = f.scene;
-  if (f.gate > 0.0) f.options.gate = f.gate;
+  if (f.gate != 0.0) f.options.gate = f.gate;  // nan: refused by the import
   f.sigma.Apply(&f.options.detection_sigma_t, &f.options.detection_sigma_r);
   symba::BopImportReport report;
   const symba::Status status = symba::ImportBopToLog(f.options, f.out, &report);
@@ -126,6 +128,10 @@ int RunImportBop(ImportBopFlags f) {
                    "; skipped %d images without a pose and their %d rows",
                    report.skipped_images,
                    report.skipped_rows);
+    }
+    if (report.other_scene_rows > 0) {
+      std::fprintf(
+          stderr, "; skipped %d rows of other scenes", report.other_scene_rows);
     }
     std::fprintf(stderr, "\n");
   }

@@ -2,11 +2,15 @@
 // input with exact expected values; the BOP symmetry mapping; a front end's
 // trajectory matched by image time; and for each bad input its message and
 // no output file.
+#include <sys/stat.h>
+
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -255,6 +259,34 @@ TEST(MapBopSymmetries, InexactCasesAreMappedAndSaid) {
   EXPECT_EQ(note,
             "1 discrete symmetries that are not the cyclic group of one "
             "axis: mapped to asymmetric");
+  // An offset no int can hold is still said, in millimetres.
+  shifted.t = Eigen::Vector3d(3e9, 0, 0);
+  MapBopSymmetries({shifted}, {}, &note);
+  EXPECT_EQ(note,
+            "its symmetries move the model's origin by up to 3e+12 mm (the "
+            "axis misses the origin, symba's passes through it)");
+  // C_60 about z and a flip about x: the 60-fold subgroup is found among
+  // the 60 transforms (the identity listed too).
+  std::vector<Rigid3d> c60 = {Rotation(kPi, x)};
+  for (int k = 0; k < 60; ++k) c60.push_back(Rotation(2 * kPi * k / 60, z));
+  const ClassPrior sixty = MapBopSymmetries(c60, {}, &note);
+  EXPECT_EQ(sixty.symmetry, SymmetryType::kDiscrete);
+  EXPECT_EQ(sixty.order, 60);
+  EXPECT_NEAR((sixty.axis_o - z).norm(), 0.0, 1e-9);
+}
+
+// An axis whose norm overflows (or underflows) a double still has its
+// direction.
+TEST_F(BopImportTest, AHugeContinuousAxisKeepsItsDirection) {
+  options_.models_info =
+      Write("models_info.json",
+            R"({"1": {"symmetries_continuous": [{"axis": [0, 0, 1e200]}]},
+          "2": {"symmetries_continuous": [{"axis": [0, -1e-200, 0]}]}})");
+  LogHeader header;
+  std::vector<KeyframeInput> keyframes;
+  ASSERT_TRUE(ImportBop(options_, &header, &keyframes, nullptr).ok());
+  EXPECT_EQ(header.classes.at("obj_1").axis_o, Eigen::Vector3d(0, 0, 1));
+  EXPECT_EQ(header.classes.at("obj_2").axis_o, Eigen::Vector3d(0, 1, 0));
 }
 
 TEST_F(BopImportTest, PosesFromATrajectoryMatchedByImageTime) {
@@ -311,6 +343,106 @@ TEST_F(BopImportTest, ByteOrderMarksAreSkipped) {
   }
   EXPECT_EQ(keyframes[1].timestamp, 1.0);
   EXPECT_EQ(keyframes[1].T_wc->t, Eigen::Vector3d(1, 0, 0));
+}
+
+// A directory is named as one; a pipe (a FIFO here, `<(...)` in a shell)
+// is read to its end like a file.
+TEST_F(BopImportTest, DirectoriesAreRefusedAndPipesRead) {
+  const std::string results = options_.results;
+  options_.results = dir_.string();
+  EXPECT_EQ(Failure(), dir_.string() + ": is a directory");
+  options_.results = results;
+  options_.scene_camera = dir_.string();
+  EXPECT_EQ(Failure(), dir_.string() + ": is a directory");
+  options_.scene_camera = (dir_ / "scene_camera.json").string();
+
+  LogHeader header;
+  std::vector<KeyframeInput> expected;
+  ASSERT_TRUE(ImportBop(options_, &header, &expected, nullptr).ok());
+  const std::string fifo = (dir_ / "results.fifo").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::thread writer([&fifo] { std::ofstream(fifo) << kResults; });
+  options_.results = fifo;
+  std::vector<KeyframeInput> keyframes;
+  const Status status = ImportBop(options_, &header, &keyframes, nullptr);
+  writer.join();
+  ASSERT_TRUE(status.ok()) << status.message();
+  ASSERT_EQ(keyframes.size(), expected.size());
+  EXPECT_EQ(keyframes[0].detections.size(), expected[0].detections.size());
+}
+
+// A first line that starts like the header must be the header; a file
+// with old Mac line ends ('\r' alone) is one such line.
+TEST_F(BopImportTest, AHeaderLineNamesTheSevenColumns) {
+  options_.results = Write("bad_header.csv", "scene_idXYZ garbage\n");
+  EXPECT_EQ(Failure(),
+            options_.results +
+                ":1: a header line must be "
+                "scene_id,im_id,obj_id,score,R,t,time");
+  std::string mac = kResults;
+  std::replace(mac.begin(), mac.end(), '\n', '\r');
+  options_.results = Write("mac.csv", mac);
+  EXPECT_EQ(Failure(),
+            options_.results +
+                ":1: a header line must be "
+                "scene_id,im_id,obj_id,score,R,t,time (this line holds a "
+                "carriage return: lines must end with \\n or \\r\\n)");
+}
+
+// The first data line decides the form of the image times; every later
+// line must have it, so a misread time is an error where it stands.
+TEST_F(BopImportTest, ImageTimesKeepTheFormOfTheirFirstLine) {
+  options_.image_times = Write("times.txt", "0 0,000\n3 0,033\n");
+  EXPECT_EQ(Failure(),
+            options_.image_times +
+                ":1: expected \"im_id timestamp\" or \"timestamp "
+                "filename\" (TUM rgb.txt)");
+  options_.image_times = Write("times.txt", "# times\n0 0.0\n3 0.167s\n");
+  EXPECT_EQ(Failure(),
+            options_.image_times +
+                ":3: expected \"im_id timestamp\" as on line 2 (a "
+                "non-negative integer and a number)");
+  options_.image_times = Write("times.txt", "0 0.0\n3 NaN\n");
+  EXPECT_EQ(Failure(),
+            options_.image_times +
+                ":2: expected \"im_id timestamp\" as on line 1 (a "
+                "non-negative integer and a number)");
+  options_.image_times =
+      Write("rgb.txt", "10.0 rgb/10.0.png\n10.1 rgb/10.1.png\n7 8\n");
+  EXPECT_EQ(Failure(),
+            options_.image_times +
+                ":3: expected \"timestamp filename\" (TUM rgb.txt) as on "
+                "line 1");
+}
+
+// Options that are not numbers the importer can use; rows of other scenes
+// are counted; an output that is an input is refused.
+TEST_F(BopImportTest, BadOptionsAndOutputsAreNamed) {
+  options_.gate = std::nan("");
+  EXPECT_EQ(Failure(), "options: gate: must be positive and finite, got nan");
+  options_.gate.reset();
+  options_.detection_sigma_r = -1.0;
+  EXPECT_EQ(Failure(),
+            "options: detection sigma_r: must be positive and finite, got -1");
+  options_.detection_sigma_r.reset();
+
+  options_.results = Write("two_scenes.csv",
+                           "7,0,1,0.9,1 0 0 0 1 0 0 0 1,0 0 1000,0\n"
+                           "8,3,1,0.9,1 0 0 0 1 0 0 0 1,0 0 1000,0\n"
+                           "8,3,2,0.9,1 0 0 0 1 0 0 0 1,0 0 1000,0\n");
+  options_.scene = 7;
+  BopImportReport report;
+  ASSERT_TRUE(ImportBopToLog(options_, Log(), &report).ok());
+  EXPECT_EQ(report.rows, 1);
+  EXPECT_EQ(report.other_scene_rows, 2);
+
+  const Status status = ImportBopToLog(options_, options_.results, nullptr);
+  EXPECT_EQ(status.message(),
+            options_.results + ": is the input " + options_.results);
+  std::ifstream kept(options_.results);
+  std::string first;
+  std::getline(kept, first);
+  EXPECT_EQ(first, "7,0,1,0.9,1 0 0 0 1 0 0 0 1,0 0 1000,0");
 }
 
 // The w2c poses with the images' times from --image-times (no trajectory).

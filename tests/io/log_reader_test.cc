@@ -448,6 +448,9 @@ TEST(LogReader, MissingFileCannotBeOpened) {
   const Status status = LogReader::Open(path, &reader);
   EXPECT_EQ(status.message(), path + ": cannot open");
   EXPECT_EQ(reader, nullptr);
+  // A directory opens as a stream on Linux; it is named as what it is.
+  EXPECT_EQ(LogReader::Open(kDataDir, &reader).message(),
+            kDataDir + ": is a directory");
 }
 
 TEST(LogReader, ErrorsAreSticky) {

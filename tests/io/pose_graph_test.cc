@@ -464,6 +464,9 @@ TEST(ReadG2oPoseGraph, RejectsFilesAsAWhole) {
   status = ReadG2oPoseGraph(missing, &graph);
   EXPECT_EQ(status.message(),
             missing + ": cannot open (No such file or directory)");
+  const std::string directory = ::testing::TempDir();
+  EXPECT_EQ(ReadG2oPoseGraph(directory, &graph).message(),
+            directory + ": is a directory");
 
   // With isotropic_information, an edge must have positive tau and kappa.
   const std::string negative =

@@ -67,8 +67,9 @@ struct BopImportReport {
   int rows = 0;  // CSV rows of the imported scene
   int keyframes = 0;
   int detections = 0;
-  int skipped_images = 0;  // without a pose (skip_images_without_pose)
-  int skipped_rows = 0;    // rows of skipped images
+  int skipped_images = 0;    // without a pose (skip_images_without_pose)
+  int skipped_rows = 0;      // rows of skipped images
+  int other_scene_rows = 0;  // with `scene`: rows of other scenes, skipped
   // How each object's BOP symmetries were mapped when the three types
   // cannot express them exactly, one sentence each (for stderr).
   std::vector<std::string> symmetry_notes;

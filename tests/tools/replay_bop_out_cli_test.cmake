@@ -95,6 +95,19 @@ foreach(row IN LISTS rows)
   endif()
 endforeach()
 
+# symba replay ARGS... --quiet must exit 1 with `expected` on stderr.
+function(expect_replay_failure name expected)
+  execute_process(COMMAND ${SYMBA} replay ${ARGN} --quiet
+    RESULT_VARIABLE rc ERROR_VARIABLE stderr)
+  if(NOT rc EQUAL 1)
+    message(FATAL_ERROR "${name}: exit 1 expected, got ${rc}: ${stderr}")
+  endif()
+  string(FIND "${stderr}" "${expected}" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "${name}: expected \"${expected}\": ${stderr}")
+  endif()
+endfunction()
+
 # A log without the bop key and with names that are not obj_<id>: without
 # --bop-scene the scene is unknown; with it, the class has no obj_id.
 execute_process(COMMAND ${SYMBA} import bop --results ${DATA}/results.csv
@@ -122,16 +135,8 @@ foreach(case "no_scene;;no BOP scene id: the log header has no \"bop\" key"
     set(out_csv ${WORK_DIR}/absent/refined.csv)
     set(input ${log})
   endif()
-  execute_process(COMMAND ${SYMBA} replay ${input} --out ${WORK_DIR}/${name}
-      --bop-out ${out_csv} ${flags} --quiet
-    RESULT_VARIABLE rc ERROR_VARIABLE stderr)
-  if(NOT rc EQUAL 1)
-    message(FATAL_ERROR "${name}: exit 1 expected, got ${rc}: ${stderr}")
-  endif()
-  string(FIND "${stderr}" "${expected_message}" at)
-  if(at EQUAL -1)
-    message(FATAL_ERROR "${name}: expected \"${expected_message}\": ${stderr}")
-  endif()
+  expect_replay_failure(${name} "${expected_message}" ${input}
+      --out ${WORK_DIR}/${name} --bop-out ${out_csv} ${flags})
   if(EXISTS ${out_csv} OR EXISTS ${WORK_DIR}/${name})
     message(FATAL_ERROR "${name}: a failed replay wrote an output")
   endif()
@@ -154,16 +159,8 @@ foreach(case "onto_log;${log};${WORK_DIR}/onto_log;${log}: is the input"
   if(name STREQUAL "holder")
     set(input ${WORK_DIR}/holder/scene7.jsonl)
   endif()
-  execute_process(COMMAND ${SYMBA} replay ${input} --out ${out}
-      --bop-out ${bop_out} --quiet
-    RESULT_VARIABLE rc ERROR_VARIABLE stderr)
-  if(NOT rc EQUAL 1)
-    message(FATAL_ERROR "${name}: exit 1 expected, got ${rc}: ${stderr}")
-  endif()
-  string(FIND "${stderr}" "${expected_message}" at)
-  if(at EQUAL -1)
-    message(FATAL_ERROR "${name}: expected \"${expected_message}\": ${stderr}")
-  endif()
+  expect_replay_failure(${name} "${expected_message}" ${input}
+      --out ${out} --bop-out ${bop_out})
   if(NOT name STREQUAL "holder" AND EXISTS ${out})
     message(FATAL_ERROR "${name}: a failed replay wrote ${out}")
   endif()

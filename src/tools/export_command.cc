@@ -81,13 +81,13 @@ void RegisterExportCommand(CLI::App* app, int* exit_code) {
                   "for models_info.json (default: the log header's class "
                   "priors)");
   bop->add_option("--scene-id", flags->options.scene_id, "the BOP scene_id")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::NonNegativeNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   bop->add_option("--diameter",
                   flags->options.diameter,
                   "every object's models_info diameter (m); the importer's "
                   "gate is half of it")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   bop->add_flag("--quiet", flags->quiet, "no summary on stderr");
   bop->callback([flags, exit_code] { *exit_code = RunExportBop(*flags); });

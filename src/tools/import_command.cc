@@ -33,19 +33,17 @@ struct DetectionSigmaFlags {
                     t,
                     "detection translation noise (m), written on every "
                     "detection (default: none, the backend's)")
-        ->check(CLI::PositiveNumber);
+        ->check(CLI::PositiveNumber & symba::tools::FiniteNumber());
     cmd->add_option("--detection-sigma-r",
                     r,
                     "detection rotation noise (rad), written on every "
                     "detection (default: none, the backend's)")
-        ->check(CLI::PositiveNumber);
+        ->check(CLI::PositiveNumber & symba::tools::FiniteNumber());
   }
   void Apply(std::optional<double>* sigma_t,
              std::optional<double>* sigma_r) const {
-    // != rather than >: a "nan" the parser let through reaches the
-    // importer's own check instead of meaning "not given".
-    if (t != 0.0) *sigma_t = t;
-    if (r != 0.0) *sigma_r = r;
+    if (t > 0.0) *sigma_t = t;
+    if (r > 0.0) *sigma_r = r;
   }
 };
 
@@ -107,7 +105,7 @@ int RunImportBop(ImportBopFlags f) {
     if (!status.ok()) return Fail("bop", status.message());
   }
   if (f.scene >= 0) f.options.scene = f.scene;
-  if (f.gate != 0.0) f.options.gate = f.gate;  // nan: refused by the import
+  if (f.gate > 0.0) f.options.gate = f.gate;
   f.sigma.Apply(&f.options.detection_sigma_t, &f.options.detection_sigma_r);
   symba::BopImportReport report;
   const symba::Status status = symba::ImportBopToLog(f.options, f.out, &report);
@@ -166,7 +164,7 @@ void RegisterImportBop(CLI::App* import, int* exit_code) {
   cmd->add_option("--time-tolerance",
                   o.time_tolerance,
                   "largest image-to-trajectory time difference (s)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::NonNegativeNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   cmd->add_flag("--skip-images-without-pose",
                 o.skip_images_without_pose,
@@ -174,7 +172,7 @@ void RegisterImportBop(CLI::App* import, int* exit_code) {
   cmd->add_option("--scene",
                   f->scene,
                   "the scene_id to import (default: the CSV's only scene)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::NonNegativeNumber & symba::tools::FiniteNumber());
   cmd->add_option(
       "--class-names", f->class_names, "obj_id=name,... (default: obj_<id>)");
   cmd->add_option("--gate",
@@ -182,7 +180,7 @@ void RegisterImportBop(CLI::App* import, int* exit_code) {
                   "rows of one object in one image within this distance (m) "
                   "are one detection (default: half the diameter from "
                   "models_info, else 0.05)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber());
   f->sigma.Register(cmd);
   cmd->add_option("--out", f->out, "the log to write (replaced atomically)")
       ->required();
@@ -216,17 +214,17 @@ void RegisterImportCommand(CLI::App* app, int* exit_code) {
                   "class NAME (all-zero row: not detected); repeatable")
       ->allow_extra_args(false);
   cmd->add_option("--stride", o.stride, "a keyframe every N frames")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   cmd->add_option("--odometry-sigma-t",
                   o.odometry_sigma_t,
                   "odometry translation noise (m)")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   cmd->add_option("--odometry-sigma-r",
                   o.odometry_sigma_r,
                   "odometry rotation noise (rad)")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   cmd->add_option("--first-pose",
                   o.first_pose,

@@ -77,7 +77,7 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                 "window mode: one batch solve over every factor after the "
                 "last keyframe");
   cmd->add_option("--window", b.window_size, "keyframes free in a window")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   cmd->add_option("--window-policy",
                   f->window_policy,
@@ -97,25 +97,25 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                   b.marginalize_min_margin,
                   "marginalize: least cost lead (nats) of a max-mixture's "
                   "winner over every rival for the edge to enter a prior")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::NonNegativeNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   cmd->add_option("--marginalize-rival-distance",
                   b.marginalize_rival_distance,
                   "marginalize: whitened residual distance beyond which a "
                   "component is the winner's rival")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::NonNegativeNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   cmd->add_option("--threads", b.num_threads, "Ceres threads")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   cmd->add_option(
          "--max-iterations", b.max_iterations, "solver iterations per window")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   cmd->add_option("--batch-max-iterations",
                   b.batch_max_iterations,
                   "solver iterations of a batch solve")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   cmd->add_option(
          "--hypothesis-sigma-t",
@@ -235,7 +235,7 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                   f->bop_scene,
                   "--bop-out: the BOP scene id (default: the log header's "
                   "bop.scene_id, written by symba import bop)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::NonNegativeNumber & symba::tools::FiniteNumber());
   cmd->add_flag("--quiet", f->quiet, "no progress on stderr");
   return cmd;
 }

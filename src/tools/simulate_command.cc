@@ -135,7 +135,7 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
   // Trajectory.
   f->keyframes =
       cmd->add_option("--keyframes", o.num_keyframes, KeyframesHelp())
-          ->check(CLI::PositiveNumber)
+          ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
           ->capture_default_str();
   cmd->add_option("--keyframes-per-loop",
                   o.keyframes_per_loop,
@@ -220,7 +220,7 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
   // Map points.
   cmd->add_option(
          "--points", o.num_points, "orbit scenes: map points on the wall")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::NonNegativeNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   cmd->add_option(
          "--wall-radius", o.wall_radius, "orbit scenes: wall radius (m)")
@@ -228,7 +228,7 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
   cmd->add_option("--points-per-place",
                   o.points_per_place,
                   "route scenes: map points on the wall about each place")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::NonNegativeNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   cmd->add_option("--place-wall-radius",
                   o.place_wall_radius,
@@ -261,15 +261,15 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
   cmd->add_option("--cy", o.intrinsics.cy, "principal point y (px)")
       ->capture_default_str();
   cmd->add_option("--width", o.image_width, "image width (px)")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   cmd->add_option("--height", o.image_height, "image height (px)")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
 
   // Detector.
   cmd->add_option("--hypotheses", o.num_hypotheses, "hypotheses per detection")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   cmd->add_option("--single-hypothesis",
                   o.single_hypothesis,

@@ -45,3 +45,12 @@ endif()
 if(EXISTS ${bad_log})
   message(FATAL_ERROR "a failed import wrote ${bad_log}")
 endif()
+
+# A gate of nan is refused by the parser (it used to mean "not given").
+execute_process(COMMAND ${SYMBA} import bop --results ${DATA}/results.csv
+    --scene-camera ${DATA}/scene_camera.json --gate nan --out ${bad_log}
+  RESULT_VARIABLE rc ERROR_VARIABLE stderr)
+string(FIND "${stderr}" "--gate: Value nan is not a finite number" at)
+if(rc EQUAL 0 OR at EQUAL -1 OR EXISTS ${bad_log})
+  message(FATAL_ERROR "--gate nan must be refused, no log (${rc}): ${stderr}")
+endif()

@@ -487,6 +487,12 @@ TEST_F(BopImportTest, EachBadInputNamesItsFileAndLineAndWritesNothing) {
        "(scene_id,im_id,obj_id,score,R,t,time), got 6"},
       {"7,x,1,0.9,1 0 0 0 1 0 0 0 1,0 0 1000,0\n",
        "1: im_id: expected a non-negative integer, got \"x\""},
+      // A long value is cut at 40 bytes, a control byte escaped.
+      {"7,0,1," + std::string(50, '9') + "\t\x01" +
+           ",1 0 0 0 1 0 0 0 1,0 0 1000,0\n",
+       "1: score: expected a number, got \"" + std::string(40, '9') + "...\""},
+      {"7,0,1,0.9,1 0 0 0 1 0 0 0 1,0 0 1000,\x01\n",
+       "1: time: expected a number, got \"\\u0001\""},
       {"7,0,1,nan,1 0 0 0 1 0 0 0 1,0 0 1000,0\n",
        "1: score: expected a number, got \"nan\""},
       {"7,0,1,0.9,1 0 0 0 1 0 0 0,0 0 1000,0\n",

@@ -321,10 +321,11 @@ CLI::App* AddSimulateOptions(CLI::App* app, SimulateFlags* f) {
                   o.max_detection_range,
                   "farthest detected object centre (m)")
       ->capture_default_str();
-  cmd->add_option("--write-detection-sigmas",
+  cmd->add_option("--declare-noise,--write-detection-sigmas",
                   o.write_detection_sigmas,
-                  "write the detector noise as each detection's sigma_t, "
-                  "sigma_r (true/false)")
+                  "the detector declares its noise: write it as each "
+                  "detection's sigma_t, sigma_r (true/false; false draws the "
+                  "same detections without them)")
       ->capture_default_str();
   cmd->add_option("--write-class-priors",
                   o.write_class_priors,

@@ -360,6 +360,75 @@ TEST(Simulation, ClassPriorsAreWrittenOnlyOnRequest) {
   EXPECT_EQ(seq.header.classes.at("chair").symmetry, SymmetryType::kAsymmetric);
 }
 
+// How often `needle` occurs in `text`.
+int Occurrences(const std::string& text, const std::string& needle) {
+  int count = 0;
+  for (size_t at = text.find(needle); at != std::string::npos;
+       at = text.find(needle, at + needle.size())) {
+    ++count;
+  }
+  return count;
+}
+
+// A detector that declares no noise (write_detection_sigmas off, `symba
+// simulate --declare-noise false`) draws exactly what the declaring one
+// draws: the same detections and hypotheses bit for bit, without sigma_t and
+// sigma_r; the odometry keeps its declared noise.
+TEST(Simulation, UndeclaredNoiseChangesOnlyTheDetectionSigmas) {
+  for (const char* name : {"disc", "room"}) {
+    SCOPED_TRACE(name);
+    const SimulatedSequence declared =
+        MustSimulate(name, SimulationOptions(), 5);
+    SimulationOptions options;
+    options.write_detection_sigmas = false;
+    const SimulatedSequence undeclared = MustSimulate(name, options, 5);
+    ASSERT_EQ(declared.keyframes.size(), undeclared.keyframes.size());
+    int detections = 0;
+    for (size_t k = 0; k < declared.keyframes.size(); ++k) {
+      const KeyframeInput& a = declared.keyframes[k];
+      const KeyframeInput& b = undeclared.keyframes[k];
+      ASSERT_EQ(a.odometry.has_value(), b.odometry.has_value());
+      if (b.odometry) {
+        EXPECT_EQ(b.odometry->T_prev_cur.t, a.odometry->T_prev_cur.t);
+        EXPECT_EQ(b.odometry->T_prev_cur.q.coeffs(),
+                  a.odometry->T_prev_cur.q.coeffs());
+        EXPECT_EQ(b.odometry->sigma_t, a.odometry->sigma_t);
+        EXPECT_EQ(b.odometry->sigma_r, a.odometry->sigma_r);
+      }
+      ASSERT_EQ(a.detections.size(), b.detections.size());
+      for (size_t d = 0; d < a.detections.size(); ++d, ++detections) {
+        const DetectionInput& da = a.detections[d];
+        const DetectionInput& db = b.detections[d];
+        EXPECT_EQ(da.sigma_t, SimulationOptions().translation_sigma);
+        EXPECT_EQ(da.sigma_r, SimulationOptions().rotation_sigma);
+        EXPECT_FALSE(db.sigma_t.has_value());
+        EXPECT_FALSE(db.sigma_r.has_value());
+        EXPECT_EQ(db.id, da.id);
+        EXPECT_EQ(db.class_name, da.class_name);
+        ASSERT_EQ(db.hypotheses.size(), da.hypotheses.size());
+        for (size_t j = 0; j < da.hypotheses.size(); ++j) {
+          EXPECT_EQ(db.hypotheses[j].T_co.t, da.hypotheses[j].T_co.t);
+          EXPECT_EQ(db.hypotheses[j].T_co.q.coeffs(),
+                    da.hypotheses[j].T_co.q.coeffs());
+          EXPECT_EQ(db.hypotheses[j].weight, da.hypotheses[j].weight);
+        }
+      }
+    }
+    EXPECT_GT(detections, 50);
+    // The ground truth is the same file; the log loses exactly the
+    // detections' sigmas (the odometry's are still written).
+    const auto a = Files(declared);
+    const auto b = Files(undeclared);
+    EXPECT_EQ(a.at("gt_objects.json"), b.at("gt_objects.json"));
+    EXPECT_EQ(a.at("gt_trajectory.tum"), b.at("gt_trajectory.tum"));
+    const int odometries = static_cast<int>(declared.keyframes.size()) - 1;
+    EXPECT_EQ(Occurrences(a.at("log.jsonl"), "\"sigma_t\""),
+              odometries + detections);
+    EXPECT_EQ(Occurrences(b.at("log.jsonl"), "\"sigma_t\""), odometries);
+    EXPECT_EQ(Occurrences(b.at("log.jsonl"), "\"sigma_r\""), odometries);
+  }
+}
+
 // ---------------------------------------------------------------------------
 // Front end.
 

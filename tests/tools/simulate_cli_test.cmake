@@ -1,7 +1,8 @@
 # Runs `symba simulate` as a user would: the three files appear, the ground
 # truth has one trajectory line per keyframe and the documented JSON shape,
 # and an unknown scene fails without leaving anything behind; --keyframes
-# overrides the long scene's own default, and `symba replay` reads its log.
+# overrides the long scene's own default, and `symba replay` reads its log;
+# --declare-noise false leaves the detections' sigmas out and nothing else.
 # Inputs: SYMBA (the binary), WORK_DIR.
 cmake_minimum_required(VERSION 3.16)  # quoted strings are not variables
 file(REMOVE_RECURSE ${WORK_DIR})
@@ -33,6 +34,33 @@ if(NOT gt MATCHES "^{\n  \"objects\": \\[\n    {\"id\": 0, " OR
    NOT gt MATCHES "\"detections\": {\n    \"[0-9]+/0\": 0,\n")
   message(FATAL_ERROR "gt_objects.json: unexpected content: ${gt}")
 endif()
+
+# --declare-noise false: the same detections (the same ground truth), and
+# sigma_t/sigma_r only on the 71 odometry entries, none on the detections.
+set(undeclared ${WORK_DIR}/undeclared)
+execute_process(COMMAND ${SYMBA} simulate --scene disc --out ${undeclared}
+    --seed 3 --declare-noise false
+  RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "symba simulate --declare-noise false failed (${rc}): ${stderr}")
+endif()
+file(READ ${undeclared}/gt_objects.json undeclared_gt)
+if(NOT undeclared_gt STREQUAL gt)
+  message(FATAL_ERROR "--declare-noise false changed the detections")
+endif()
+file(READ ${out}/log.jsonl declared_log)
+file(READ ${undeclared}/log.jsonl undeclared_log)
+foreach(sigma sigma_t sigma_r)
+  string(REGEX MATCHALL "\"${sigma}\"" declared_sigmas "${declared_log}")
+  string(REGEX MATCHALL "\"${sigma}\"" undeclared_sigmas "${undeclared_log}")
+  list(LENGTH declared_sigmas n_declared)
+  list(LENGTH undeclared_sigmas n_undeclared)
+  if(NOT n_undeclared EQUAL 71 OR NOT n_declared GREATER 100)
+    message(FATAL_ERROR "${sigma}: ${n_declared} in the declared log, "
+      "${n_undeclared} without declared noise (expected > 100 and 71)")
+  endif()
+endforeach()
+file(REMOVE_RECURSE ${undeclared})
 
 # An unknown scene is a usage error and writes nothing.
 execute_process(COMMAND ${SYMBA} simulate --scene kitchen --out ${WORK_DIR}/bad

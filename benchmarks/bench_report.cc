@@ -97,6 +97,21 @@ Status ReplaceTail(const std::string& path,
   return WriteText(path, text + section);
 }
 
+Status ReplaceSection(const std::string& path,
+                      const std::string& heading,
+                      const std::string& next,
+                      const std::string& section) {
+  const std::string text = ReadOrEmpty(path);
+  const std::size_t at = HeadingAt(text, heading);
+  if (at == std::string::npos) {
+    return WriteText(path, text.empty() ? section : text + "\n" + section);
+  }
+  const std::size_t end = text.find("\n" + next, at + heading.size());
+  const std::string rest =
+      end == std::string::npos ? "" : "\n" + text.substr(end + 1);
+  return WriteText(path, text.substr(0, at) + section + rest);
+}
+
 std::string Command(int argc, char** argv) {
   std::string command;
   for (int i = 0; i < argc; ++i) {

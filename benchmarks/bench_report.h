@@ -39,6 +39,14 @@ Status ReplaceTail(const std::string& path,
                    const std::string& heading,
                    const std::string& section);
 
+// Replaces the file's part from the line `heading` up to the next line
+// that starts with `next` (or to the end) with `section`; appends `section`
+// when the heading is missing.
+Status ReplaceSection(const std::string& path,
+                      const std::string& heading,
+                      const std::string& next,
+                      const std::string& section);
+
 // The command line, space-separated.
 std::string Command(int argc, char** argv);
 // "CPU model, N hardware threads, OS release machine".

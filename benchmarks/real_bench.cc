@@ -20,10 +20,16 @@
 // Prints one table per method and a summary table; writes every log, replay
 // output and a top-down picture per sequence and method, and a bar chart of
 // the ATE ratios, into --out-dir; --json writes every number as JSON.
+// --drift-yaw and --drift-scale replace the front end by a drifting one made
+// from it (front_end_drift.h): the odometry the backends get and the front
+// end the ratios compare with are then the drifted ones, and the report is
+// a section of its own, "### A drifting front end (...)", under "## Real
+// data".
 //
 //   build/bin/symba-real-bench [--data DIR] [--sequences 0001,0004]
 //       [--methods symba,mh,sh] [--out-dir DIR] [--json FILE]
-//       [--results-md FILE] [--quiet]
+//       [--results-md FILE] [--drift-yaw DEG_PER_M] [--drift-scale S]
+//       [--quiet]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -36,6 +42,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bench_report.h"
+#include "front_end_drift.h"
 #include "io/json_writer.h"
 #include "symba/backend/backend_options.h"
 #include "symba/evaluation/evaluate.h"
@@ -45,6 +52,7 @@
 #include "symba/io/tum_trajectory.h"
 #include "symba/replay/replay.h"
 #include "symba/replay/replay_output.h"
+#include "tools/commands.h"
 #include "top_down_svg.h"
 
 namespace {
@@ -54,6 +62,7 @@ using symba::Rigid3d;
 using symba::Status;
 using symba::TrajectoryPose;
 using symba::bench::Fixed;
+using symba::bench::FrontEndDrift;
 using symba::bench::Mean;
 using symba::bench::Median;
 
@@ -75,7 +84,23 @@ struct Flags {
   bool quiet = false;
   // Replay options other than the defaults, for measuring their effect.
   symba::BackendOptions backend;
+  // --drift-yaw (deg per metre) and --drift-scale: the front end drifts.
+  double drift_yaw_deg_per_m = 0.0;
+  double drift_scale = 1.0;
+  FrontEndDrift Drift() const {
+    return {drift_yaw_deg_per_m * symba::kPi / 180.0, drift_scale};
+  }
 };
+
+// The heading of a drifting front end's report, e.g. "### A drifting front
+// end (20 deg/m, x1.10)"; it starts with kDriftHeadingStart.
+constexpr const char* kDriftHeadingStart = "### A drifting front end (";
+std::string DriftHeading(const Flags& flags) {
+  std::ostringstream yaw;
+  yaw << flags.drift_yaw_deg_per_m;
+  return kDriftHeadingStart + yaw.str() + " deg/m, x" +
+         Fixed(flags.drift_scale, 2) + ")\n";
+}
 
 // A real object of a sequence: its gt_<name>_T_co.txt, and what the naive
 // estimates from its detections give.
@@ -90,7 +115,8 @@ struct RealObject {
 struct Sequence {
   std::string name;
   fs::path dir;
-  std::vector<TrajectoryPose> gt;                   // every frame
+  std::vector<TrajectoryPose> gt;         // every frame
+  std::vector<TrajectoryPose> front_end;  // every frame (drifted: --drift-*)
   std::vector<TrajectoryPose> front_end_keyframes;  // in gt's world
   double front_end_ate = std::nan("");
   int keyframes = 0;
@@ -146,9 +172,22 @@ Eigen::Vector3d ComponentMedian(const std::vector<Eigen::Vector3d>& points) {
   return median;
 }
 
-// Reads the ground truth and the front end, and computes everything that
-// does not depend on the method.
-Status LoadSequence(const fs::path& dir, Sequence* s) {
+// The front end's poses (every frame) with `drift` applied to its keyframe
+// steps (a keyframe every kStride frames).
+std::vector<TrajectoryPose> DriftedFrontEnd(std::vector<TrajectoryPose> poses,
+                                            const FrontEndDrift& drift) {
+  std::vector<Rigid3d> T_wc;
+  for (const TrajectoryPose& pose : poses) T_wc.push_back(pose.T_wc);
+  T_wc = symba::bench::DriftFrontEnd(T_wc, kStride, drift);
+  for (std::size_t f = 0; f < poses.size(); ++f) poses[f].T_wc = T_wc[f];
+  return poses;
+}
+
+// Reads the ground truth and the front end (drifted by `drift`), and
+// computes everything that does not depend on the method.
+Status LoadSequence(const fs::path& dir,
+                    const FrontEndDrift& drift,
+                    Sequence* s) {
   s->name = dir.filename().string();
   s->dir = dir;
   std::vector<TrajectoryPose> front_end;
@@ -159,6 +198,8 @@ Status LoadSequence(const fs::path& dir, Sequence* s) {
                                       &front_end);
   }
   if (!status.ok()) return status;
+  if (!drift.IsNone()) front_end = DriftedFrontEnd(front_end, drift);
+  s->front_end = front_end;
 
   std::vector<TrajectoryPose> front_end_in_gt;  // every frame
   const Rigid3d T_gt_fe = s->gt.front().T_wc * front_end.front().T_wc.Inverse();
@@ -248,9 +289,32 @@ Status LoadSequence(const fs::path& dir, Sequence* s) {
   return Status::Ok();
 }
 
+// The front end's trajectory file to import: the sequence's own, or the
+// drifted front end written into `out_dir`.
+Status FrontEndFile(const Flags& flags,
+                    const Sequence& s,
+                    const fs::path& out_dir,
+                    std::string* path) {
+  if (flags.Drift().IsNone()) {
+    *path = (s.dir / "orbslam3_T_wc.txt").string();
+    return Status::Ok();
+  }
+  *path = (out_dir / "drifted_front_end_T_wc.txt").string();
+  std::vector<std::pair<double, Rigid3d>> trajectory;
+  for (const TrajectoryPose& pose : s.front_end) {
+    trajectory.emplace_back(pose.timestamp, pose.T_wc);
+  }
+  return symba::WriteTumTrajectory(*path, trajectory);
+}
+
 Status ImportSequence(const Flags& flags, const Sequence& s, std::string* log) {
+  const fs::path dir = fs::path(flags.out_dir) / s.name;
+  std::error_code error;
+  fs::create_directories(dir, error);
+  if (error) return Status::Error(dir.string() + ": " + error.message());
   symba::TumImportOptions options;
-  options.trajectory = (s.dir / "orbslam3_T_wc.txt").string();
+  const Status status = FrontEndFile(flags, s, dir, &options.trajectory);
+  if (!status.ok()) return status;
   options.first_pose = (s.dir / "gt_T_wc.txt").string();
   options.stride = kStride;
   options.odometry_sigma_t = kOdometrySigmaT;
@@ -259,10 +323,6 @@ Status ImportSequence(const Flags& flags, const Sequence& s, std::string* log) {
     const fs::path dope = s.dir / ("dope_" + o.name + "_T_co.txt");
     if (fs::exists(dope)) options.objects.push_back({o.name, dope.string()});
   }
-  const fs::path dir = fs::path(flags.out_dir) / s.name;
-  std::error_code error;
-  fs::create_directories(dir, error);
-  if (error) return Status::Error(dir.string() + ": " + error.message());
   *log = (dir / "log.jsonl").string();
   return symba::ImportTumToLog(options, *log, nullptr);
 }
@@ -637,10 +697,29 @@ std::string Markdown(const Flags& flags,
                      const std::vector<std::vector<Run>>& runs,
                      const std::vector<std::vector<Run>>& variant_runs,
                      const std::string& command) {
+  const bool drift = !flags.Drift().IsNone();
+  // A drift run is a subsection of "## Real data".
+  const std::string sub = drift ? "#### " : "### ";
   std::ostringstream out;
-  out << symba::bench::kRealDataHeading << "\n"
-      << "symba, MH and SH on YCB-Video (ORB-SLAM3 + DOPE).\n\n"
-      << "Generated by `symba-real-bench` (`benchmarks/real_bench.cc`); the "
+  if (drift) {
+    out << DriftHeading(flags) << "\n"
+        << "symba, MH and SH on YCB-Video (ORB-SLAM3 + DOPE) with a drifting "
+           "front end made from ORB-SLAM3's: each keyframe step (the motion "
+           "between consecutive keyframes, in the previous keyframe's camera "
+           "frame) has its translation scaled by "
+        << Fixed(flags.drift_scale, 2)
+        << " and is then turned about the camera's y axis by "
+        << flags.drift_yaw_deg_per_m
+        << " degrees per metre of its original length; the keyframes are "
+           "chained again from the first (`benchmarks/front_end_drift.h`). "
+           "The odometry the backends get and the front end of the "
+           "front-end ATE are the drifted ones, so the ratio is a method's "
+           "ATE over the drifted front end's.\n\n";
+  } else {
+    out << symba::bench::kRealDataHeading << "\n"
+        << "symba, MH and SH on YCB-Video (ORB-SLAM3 + DOPE).\n\n";
+  }
+  out << "Generated by `symba-real-bench` (`benchmarks/real_bench.cc`); the "
          "metrics are defined in docs/evaluation.md (\"symba-real-bench\"), "
          "the data in data/real/SOURCES.md.\n\n"
       << "- Command: `" << command << "`\n"
@@ -652,17 +731,17 @@ std::string Markdown(const Flags& flags,
          "with sigma_t "
       << kOdometrySigmaT << " m, sigma_r " << kOdometrySigmaR
       << " rad; replay: window mode, default options.\n\n";
-  out << "### Summary\n\n" << SummaryTable(flags, runs) << "\n";
+  out << sub << "Summary\n\n" << SummaryTable(flags, runs) << "\n";
   if (!flags.picture.empty()) {
     out << "![ATE over the front end's per sequence](" << flags.picture_link
         << ")\n\n";
   }
-  out << "### Symmetry upgrades\n\n"
+  out << sub << "Symmetry upgrades\n\n"
       << UpgradeTable(flags, sequences, runs) << "\n";
   const std::string policies =
       PolicyTable(flags, sequences, runs, variant_runs);
   if (!policies.empty()) {
-    out << "### Window policies (symba)\n\n"
+    out << sub << "Window policies (symba)\n\n"
         << policies << "\n"
         << "symba's ATE with the run's window policy, with `condition` "
            "(keyframes that leave the window held constant with all their "
@@ -671,7 +750,7 @@ std::string Markdown(const Flags& flags,
            "window\").\n\n";
   }
   for (std::size_t m = 0; m < flags.methods.size(); ++m) {
-    out << "### " << flags.methods[m] << "\n\n"
+    out << sub << flags.methods[m] << "\n\n"
         << MethodTable(sequences, runs[m]) << "\n";
   }
   out << "ATE: keyframe position RMSE against gt_T_wc, no alignment; "
@@ -686,6 +765,23 @@ std::string Markdown(const Flags& flags,
          "end's camera (mean). Median and mean rows are over sequences "
          "(over real objects for the per-object columns).\n";
   return out.str();
+}
+
+// The report in --results-md: "## Real data" is the file's last section
+// (symba-bench writes the rest); a drift run is a subsection after it,
+// replacing the one of the same drift or added at the end, and a run
+// without drift keeps the drift subsections after it.
+Status WriteResultsMarkdown(const Flags& flags, const std::string& markdown) {
+  if (!flags.Drift().IsNone()) {
+    return symba::bench::ReplaceSection(
+        flags.results_md, DriftHeading(flags), kDriftHeadingStart, markdown);
+  }
+  const std::string drift_runs =
+      symba::bench::TailFrom(flags.results_md, kDriftHeadingStart);
+  return symba::bench::ReplaceTail(
+      flags.results_md,
+      symba::bench::kRealDataHeading,
+      drift_runs.empty() ? markdown : markdown + "\n" + drift_runs);
 }
 
 }  // namespace
@@ -750,6 +846,19 @@ int main(int argc, char** argv) {
                  "marginal")
       ->check(CLI::IsMember({"conditional", "marginal"}))
       ->capture_default_str();
+  app.add_option("--drift-yaw",
+                 flags.drift_yaw_deg_per_m,
+                 "make the front end drift: turn each keyframe step about "
+                 "the camera's y axis by this many degrees per metre of its "
+                 "length")
+      ->check(symba::tools::FiniteNumber())
+      ->capture_default_str();
+  app.add_option("--drift-scale",
+                 flags.drift_scale,
+                 "make the front end drift: scale each keyframe step's "
+                 "translation by this factor (> 0)")
+      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
+      ->capture_default_str();
   app.add_flag("--quiet", flags.quiet, "no progress on stderr");
   CLI11_PARSE(app, argc, argv);
   symba::ParseWindowPolicy(window_policy, &flags.backend.window_policy);
@@ -778,7 +887,8 @@ int main(int argc, char** argv) {
   std::vector<std::vector<Run>> variant_runs(kNumPolicyVariants);
   for (std::size_t i = 0; i < sequences.size(); ++i) {
     Sequence& s = sequences[i];
-    Status status = LoadSequence(fs::path(flags.data) / flags.sequences[i], &s);
+    Status status = LoadSequence(
+        fs::path(flags.data) / flags.sequences[i], flags.Drift(), &s);
     std::string log;
     if (status.ok()) status = ImportSequence(flags, s, &log);
     if (!status.ok()) return fail(status.message());
@@ -858,9 +968,7 @@ int main(int argc, char** argv) {
                                      RatioBarChart(flags, sequences, runs));
   }
   if (status.ok() && !flags.results_md.empty()) {
-    // The last section of the file (symba-bench writes the rest).
-    status = symba::bench::ReplaceTail(
-        flags.results_md, symba::bench::kRealDataHeading, markdown);
+    status = WriteResultsMarkdown(flags, markdown);
   }
   if (!status.ok()) return fail(status.message());
   if (!flags.quiet) {

@@ -18,27 +18,12 @@ namespace {
 using internal::Approx;
 using internal::At;
 
-// The index of the pose in `poses` (increasing timestamps) nearest in time
-// to `timestamp` if it is within `tolerance`, or -1.
+// The index in `poses` of NearestPose(poses, timestamp, tolerance), or -1.
 int FindByTimestamp(const std::vector<TrajectoryPose>& poses,
                     double timestamp,
                     double tolerance) {
-  const auto after = std::lower_bound(
-      poses.begin(),
-      poses.end(),
-      timestamp,
-      [](const TrajectoryPose& pose, double t) { return pose.timestamp < t; });
-  auto nearest = after;
-  if (after == poses.end() ||
-      (after != poses.begin() &&
-       timestamp - (after - 1)->timestamp < after->timestamp - timestamp)) {
-    nearest = after - 1;
-  }
-  if (nearest == poses.end() ||
-      !(std::abs(nearest->timestamp - timestamp) <= tolerance)) {
-    return -1;
-  }
-  return static_cast<int>(nearest - poses.begin());
+  const TrajectoryPose* nearest = NearestPose(poses, timestamp, tolerance);
+  return nearest == nullptr ? -1 : static_cast<int>(nearest - poses.data());
 }
 
 // Reads one input file, noting a conversion of its time unit.

@@ -155,6 +155,27 @@ Status WriteTumTrajectory(
   return Status::Ok();
 }
 
+const TrajectoryPose* NearestPose(const std::vector<TrajectoryPose>& poses,
+                                  double timestamp,
+                                  double tolerance) {
+  const auto after = std::lower_bound(
+      poses.begin(),
+      poses.end(),
+      timestamp,
+      [](const TrajectoryPose& pose, double t) { return pose.timestamp < t; });
+  auto nearest = after;
+  if (after == poses.end() ||
+      (after != poses.begin() &&
+       timestamp - (after - 1)->timestamp < after->timestamp - timestamp)) {
+    nearest = after - 1;
+  }
+  if (nearest == poses.end() ||
+      !(std::abs(nearest->timestamp - timestamp) <= tolerance)) {
+    return nullptr;
+  }
+  return &*nearest;
+}
+
 Status ReadTumTrajectory(const std::string& path,
                          const TumReadOptions& options,
                          std::vector<TrajectoryPose>* poses,

@@ -78,6 +78,12 @@ inline Status ReadTumTrajectory(const std::string& path,
   return ReadTumTrajectory(path, TumReadOptions{}, poses, nullptr);
 }
 
+// The pose of `poses` (increasing timestamps) nearest in time to
+// `timestamp` if it is within `tolerance`, else null.
+const TrajectoryPose* NearestPose(const std::vector<TrajectoryPose>& poses,
+                                  double timestamp,
+                                  double tolerance);
+
 std::string FormatTumTrajectory(
     const std::vector<std::pair<double, Rigid3d>>& trajectory);
 // Keyframes by their timestamps.

@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include "io/json_tree_reader.h"
 #include "io/json_writer.h"
 #include "io/text_file.h"
 #include "symba/evaluation/evaluate.h"
@@ -35,7 +36,7 @@ Status ParseObjectLine(const std::string& path,
   for (int k = 0; k < 7; ++k) {
     if (!internal::ParseDouble(fields[k + 1], &v[k])) {
       return Status::Error(internal::At(path, number) + ": " +
-                           internal::Quoted(std::string(fields[k + 1])) +
+                           io_internal::QuoteForMessage(fields[k + 1]) +
                            " is not a finite number");
     }
   }

@@ -99,6 +99,12 @@ Status Align(const MatchedPoses& matched,
       Positions(matched.estimate), Positions(matched.reference), with_scale);
   const Eigen::Matrix3d sR = T.topLeftCorner<3, 3>();
   e->scale = with_scale ? std::cbrt(sR.determinant()) : 1.0;
+  if (!T.allFinite() || !(e->scale > 0.0)) {
+    return Status::Error(std::string(TrajectoryAlignmentName(alignment)) +
+                         " alignment: the matched positions of " +
+                         estimate_name +
+                         " do not determine a transform (all in one place)");
+  }
   e->T_ref_est.q = Eigen::Quaterniond(sR / e->scale).normalized();
   e->T_ref_est.t = T.topRightCorner<3, 1>();
   return Status::Ok();

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <system_error>
 
 #include "io/json_tree_reader.h"
 #include "io/text_file.h"
@@ -45,11 +47,19 @@ std::vector<std::string_view> SplitTumFields(std::string_view line) {
   return fields;
 }
 
-// A first data line that starts with a word ("timestamp", "t", "time[s]")
-// is a header written without TUM's '#'.
+// A first data line that starts with a word ("timestamp", "t", "time[s]";
+// not "nan" or "inf", which are numbers, if not finite ones) is a header
+// written without TUM's '#'.
 bool LooksLikeHeader(const std::vector<std::string_view>& fields) {
-  return !fields.empty() && !fields.front().empty() &&
-         std::isalpha(static_cast<unsigned char>(fields.front().front()));
+  if (fields.empty() || fields.front().empty() ||
+      !std::isalpha(static_cast<unsigned char>(fields.front().front()))) {
+    return false;
+  }
+  const std::string_view first = fields.front();
+  double value = 0.0;
+  const auto result =
+      std::from_chars(first.data(), first.data() + first.size(), value);
+  return result.ec != std::errc() || result.ptr != first.data() + first.size();
 }
 
 TumTimeUnit TimeUnitOf(double first_timestamp) {

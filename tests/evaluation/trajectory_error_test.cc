@@ -189,6 +189,14 @@ TEST(EvaluateTrajectory, Errors) {
   EXPECT_EQ(
       EvaluateTrajectory({}, "est", Reference(), "ref", options, &e).message(),
       "est: no poses");
+  const std::vector<TrajectoryPose> still = {
+      At(0.0, 1, 1, 1), At(0.5, 1, 1, 1), At(1.0, 1, 1, 1)};
+  options.alignment = TrajectoryAlignment::kSim3;
+  EXPECT_EQ(EvaluateTrajectory(still, "est", Reference(), "ref", options, &e)
+                .message(),
+            "sim3 alignment: the matched positions of est do not determine a "
+            "transform (all in one place)");
+  options.alignment = TrajectoryAlignment::kSe3;
   options.time_tolerance = -1.0;
   EXPECT_EQ(
       EvaluateTrajectory(two, "est", Reference(), "ref", options, &e).message(),

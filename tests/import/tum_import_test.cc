@@ -314,6 +314,11 @@ TEST_F(TumImportTest, HeaderWithoutHashIsNamed) {
                 "delete it");
 }
 
+TEST_F(TumImportTest, NanOnTheFirstLineIsANumberNotAHeader) {
+  Write("can.txt", "nan 0 0 1 0 0 0 1\n");
+  ExpectFailure(can_ + ":1: \"nan\" is not a finite number");
+}
+
 TEST_F(TumImportTest, AWordAfterTheFirstLineIsNotAHeader) {
   Write("can.txt", "0.0 0 0 1 0 0 0 1\nnan 0 0 1 0 0 0 1\n");
   ExpectFailure(can_ + ":2: \"nan\" is not a finite number");

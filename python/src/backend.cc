@@ -14,6 +14,7 @@
 #include "convert.h"
 #include "estimates.h"
 #include "keyframe_arrays.h"
+#include "repr.h"
 #include "symba/backend/backend.h"
 
 namespace symba::python {
@@ -58,7 +59,11 @@ void BindEstimates(py::module_& m) {
       .def_readonly("ids", &Trajectory::ids)
       .def_readonly("timestamps", &Trajectory::timestamps)
       .def_readonly("poses", &Trajectory::poses)
-      .def("__len__", [](const Trajectory& t) { return t.ids.size(); });
+      .def("__len__", [](const Trajectory& t) { return t.ids.size(); })
+      .def("__repr__", [](const py::handle& self) {
+        return AttributeRepr(
+            self, "Trajectory", {"ids", "timestamps", "poses"});
+      });
 
   py::class_<MapObjectEstimate>(
       m,
@@ -129,7 +134,20 @@ void BindEstimates(py::module_& m) {
       .def_readonly("free_keyframes", &SolveReport::free_keyframes)
       .def_readonly("residual_blocks", &SolveReport::residual_blocks)
       .def_readonly("parameter_blocks", &SolveReport::parameter_blocks)
-      .def_readonly("prior_size", &SolveReport::prior_size);
+      .def_readonly("prior_size", &SolveReport::prior_size)
+      .def("__repr__", [](const py::handle& self) {
+        return AttributeRepr(self,
+                             "SolveReport",
+                             {"iterations",
+                              "initial_cost",
+                              "final_cost",
+                              "seconds",
+                              "converged",
+                              "free_keyframes",
+                              "residual_blocks",
+                              "parameter_blocks",
+                              "prior_size"});
+      });
 
   using S = BackendStatistics;
   py::class_<S>(m, "BackendStatistics", "Counters over the backend's life.")
@@ -145,7 +163,24 @@ void BindEstimates(py::module_& m) {
       .def_readonly("ambiguous_edges_dropped", &S::ambiguous_edges_dropped)
       .def_readonly("solves", &S::solves)
       .def_readonly("solve_seconds", &S::solve_seconds)
-      .def_readonly("solve_iterations", &S::solve_iterations);
+      .def_readonly("solve_iterations", &S::solve_iterations)
+      .def("__repr__", [](const py::handle& self) {
+        return AttributeRepr(self,
+                             "BackendStatistics",
+                             {"keyframes",
+                              "detections",
+                              "objects",
+                              "points",
+                              "object_upgrades",
+                              "objects_dropped",
+                              "rotation_outliers",
+                              "folded_angles",
+                              "marginalized_keyframes",
+                              "ambiguous_edges_dropped",
+                              "solves",
+                              "solve_seconds",
+                              "solve_iterations"});
+      });
 }
 
 void BindBackend(py::module_& m) {

@@ -6,6 +6,7 @@
 
 #include "bindings.h"
 #include "convert.h"
+#include "repr.h"
 #include "symba/categorization/categorize.h"
 
 namespace symba::python {
@@ -24,7 +25,11 @@ void BindCategorize(py::module_& m) {
       .def_readonly("spread", &AngleCluster::spread)
       .def_readonly("weight", &AngleCluster::weight)
       .def_property_readonly(
-          "members", [](const AngleCluster& c) { return Indices(c.members); });
+          "members", [](const AngleCluster& c) { return Indices(c.members); })
+      .def("__repr__", [](const py::handle& self) {
+        return AttributeRepr(
+            self, "AngleCluster", {"theta", "spread", "weight", "members"});
+      });
 
   using D = CategorizationDiagnostics;
   py::class_<D>(m, "CategorizationDiagnostics")
@@ -38,7 +43,22 @@ void BindCategorize(py::module_& m) {
       .def_readonly("empty_fraction", &D::empty_fraction)
       .def_readonly("prior_axis_used", &D::prior_axis_used)
       .def_readonly("prior_order_snapped", &D::prior_order_snapped)
-      .def_readonly("prior_type_used", &D::prior_type_used);
+      .def_readonly("prior_type_used", &D::prior_type_used)
+      .def("__repr__", [](const py::handle& self) {
+        return AttributeRepr(self,
+                             "CategorizationDiagnostics",
+                             {"passes",
+                              "axis_support",
+                              "num_axis_inliers",
+                              "num_raw_clusters",
+                              "num_noise",
+                              "max_cluster_extent",
+                              "min_cluster_separation",
+                              "empty_fraction",
+                              "prior_axis_used",
+                              "prior_order_snapped",
+                              "prior_type_used"});
+      });
 
   using C = CategorizedDetection;
   py::class_<C>(m,

@@ -11,6 +11,7 @@
 #include "bindings.h"
 #include "convert.h"
 #include "keyframe_arrays.h"
+#include "repr.h"
 #include "symba/backend/keyframe_input.h"
 
 namespace symba::python {
@@ -342,7 +343,11 @@ void BindOdometry(py::module_& m) {
             o.T_prev_cur = PoseFromPython(value, "T_prev_cur");
           })
       .def_readwrite("sigma_t", &Odometry::sigma_t)
-      .def_readwrite("sigma_r", &Odometry::sigma_r);
+      .def_readwrite("sigma_r", &Odometry::sigma_r)
+      .def("__repr__", [](const py::handle& self) {
+        return AttributeRepr(
+            self, "Odometry", {"T_prev_cur", "sigma_t", "sigma_r"});
+      });
 }
 
 void BindDetection(py::module_& m) {

@@ -10,6 +10,7 @@
 #include "bindings.h"
 #include "convert.h"
 #include "estimates.h"
+#include "repr.h"
 #include "symba/import/bop_import.h"
 #include "symba/import/class_prior_spec.h"
 #include "symba/import/tum_import.h"
@@ -186,7 +187,11 @@ void BindLogs(py::module_& m) {
       .def_readonly("version", &LogHeader::version)
       .def_readwrite("camera", &LogHeader::camera)
       .def_readwrite("classes", &LogHeader::classes)
-      .def_readwrite("bop", &LogHeader::bop);
+      .def_readwrite("bop", &LogHeader::bop)
+      .def("__repr__", [](const py::handle& self) {
+        return AttributeRepr(
+            self, "LogHeader", {"version", "camera", "classes", "bop"});
+      });
 
   py::class_<PyLogReader>(m,
                           "LogReader",
@@ -281,7 +286,14 @@ void BindReplay(py::module_& m) {
       .def_readonly("assignments", &PyReplayResult::assignments)
       .def_readonly("statistics", &PyReplayResult::statistics)
       .def_readonly("last_solve", &PyReplayResult::last_solve)
-      .def_readonly("seconds", &PyReplayResult::seconds);
+      .def_readonly("seconds", &PyReplayResult::seconds)
+      .def("__repr__", [](const PyReplayResult& r) {
+        return "ReplayResult(" + std::to_string(r.trajectory.ids.size()) +
+               " keyframes, " + std::to_string(r.objects.size()) +
+               " map objects, " + std::to_string(r.assignments.size()) +
+               " assignments, seconds=" +
+               py::repr(py::float_(r.seconds)).cast<std::string>() + ")";
+      });
 
   m.def(
       "replay",
@@ -367,7 +379,18 @@ void BindImport(py::module_& m) {
       .def_readonly("skipped_images", &BopImportReport::skipped_images)
       .def_readonly("skipped_rows", &BopImportReport::skipped_rows)
       .def_readonly("other_scene_rows", &BopImportReport::other_scene_rows)
-      .def_readonly("symmetry_notes", &BopImportReport::symmetry_notes);
+      .def_readonly("symmetry_notes", &BopImportReport::symmetry_notes)
+      .def("__repr__", [](const py::handle& self) {
+        return AttributeRepr(self,
+                             "BopImportReport",
+                             {"rows",
+                              "keyframes",
+                              "detections",
+                              "skipped_images",
+                              "skipped_rows",
+                              "other_scene_rows",
+                              "symmetry_notes"});
+      });
   DefWithBopImportOptions(
       [&](auto function, auto... args) {
         m.def("import_bop",
@@ -425,8 +448,13 @@ void BindSimulation(py::module_& m) {
       .def_property_readonly(
           "axis_o",
           [](const SimulatedObject& o) { return VectorToPython(o.axis_o); })
-      .def_property_readonly("T_wo", [](const SimulatedObject& o) {
-        return PoseToPython(o.T_wo);
+      .def_property_readonly(
+          "T_wo", [](const SimulatedObject& o) { return PoseToPython(o.T_wo); })
+      .def("__repr__", [](const py::handle& self) {
+        return AttributeRepr(
+            self,
+            "SimulatedObject",
+            {"class_name", "symmetry", "order", "axis_o", "T_wo"});
       });
 
   py::class_<SimulatedSequence>(m,
@@ -445,7 +473,13 @@ void BindSimulation(py::module_& m) {
                 s.T_wc_true,
                 [](const Rigid3d& T) -> const Rigid3d& { return T; });
           },
-          "True T_wc per keyframe, (N, 7) [tx, ty, tz, qx, qy, qz, qw].");
+          "True T_wc per keyframe, (N, 7) [tx, ty, tz, qx, qy, qz, qw].")
+      .def("__repr__", [](const SimulatedSequence& s) {
+        return "Simulation(scene='" + s.scene +
+               "', seed=" + std::to_string(s.seed) + ", " +
+               std::to_string(s.keyframes.size()) + " keyframes, " +
+               std::to_string(s.objects.size()) + " objects)";
+      });
 
   m.def("scene_names", &SceneNames, "The scenes simulate() knows.");
   m.def(

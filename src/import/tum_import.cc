@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <map>
 #include <utility>
 
 #include "io/text_file.h"
@@ -17,20 +18,32 @@ namespace {
 using internal::Approx;
 using internal::At;
 
-// The index of the pose in `poses` (increasing timestamps) whose timestamp
-// is within kImportTimestampTolerance of `timestamp`, or -1.
+// The index in `poses` of NearestPose(poses, timestamp, tolerance), or -1.
 int FindByTimestamp(const std::vector<TrajectoryPose>& poses,
-                    double timestamp) {
-  const auto it = std::lower_bound(
-      poses.begin(),
-      poses.end(),
-      timestamp - kImportTimestampTolerance,
-      [](const TrajectoryPose& pose, double t) { return pose.timestamp < t; });
-  if (it == poses.end() ||
-      !(std::abs(it->timestamp - timestamp) <= kImportTimestampTolerance)) {
-    return -1;
+                    double timestamp,
+                    double tolerance) {
+  const TrajectoryPose* nearest = NearestPose(poses, timestamp, tolerance);
+  return nearest == nullptr ? -1 : static_cast<int>(nearest - poses.data());
+}
+
+// Reads one input file, noting a conversion of its time unit.
+Status ReadInput(const std::string& path,
+                 const TumReadOptions& read_options,
+                 std::vector<TrajectoryPose>* poses,
+                 TumImportCounts* counts) {
+  TumReadReport report;
+  const Status status = ReadTumTrajectory(path, read_options, poses, &report);
+  if (!status.ok()) return status;
+  const std::string note = TumTimeUnitNote(path, report);
+  if (counts != nullptr && !note.empty()) counts->notes.push_back(note);
+  if (counts != nullptr && poses->empty()) {
+    counts->warnings.push_back(
+        path + ": no detection (" +
+        (report.rows == 0 ? std::string("no data line")
+                          : std::to_string(report.rows) + " all-zero rows") +
+        "): the object is never seen");
   }
-  return static_cast<int>(it - poses.begin());
+  return Status::Ok();
 }
 
 Status CheckPositive(const char* name, double value) {
@@ -56,6 +69,13 @@ Status CheckOptions(const TumImportOptions& options) {
   if (status.ok() && options.detection_sigma_r) {
     status = CheckPositive("detection sigma_r", *options.detection_sigma_r);
   }
+  if (status.ok() && !(options.time_tolerance >= 0.0 &&
+                       std::isfinite(options.time_tolerance))) {
+    status = Status::Error(
+        "time tolerance: must be finite and not negative, "
+        "got " +
+        Approx(options.time_tolerance));
+  }
   for (std::size_t i = 0; status.ok() && i < options.objects.size(); ++i) {
     if (options.objects[i].class_name.empty()) {
       status = Status::Error(options.objects[i].path +
@@ -69,20 +89,23 @@ Status CheckOptions(const TumImportOptions& options) {
 
 Status ImportTum(const TumImportOptions& options,
                  LogHeader* header,
-                 std::vector<KeyframeInput>* keyframes) {
+                 std::vector<KeyframeInput>* keyframes,
+                 TumImportCounts* counts) {
   Status status = CheckOptions(options);
   if (!status.ok()) return status;
+  const double tolerance = options.time_tolerance;
 
   std::vector<TrajectoryPose> frames;
-  status = ReadTumTrajectory(options.trajectory, &frames);
+  status = ReadInput(options.trajectory, TumReadOptions{}, &frames, counts);
   if (!status.ok()) return status;
 
   Rigid3d first_T_wc = frames.front().T_wc;
   if (!options.first_pose.empty()) {
     std::vector<TrajectoryPose> first;
-    status = ReadTumTrajectory(options.first_pose, &first);
+    status = ReadInput(options.first_pose, TumReadOptions{}, &first, counts);
     if (!status.ok()) return status;
-    const int index = FindByTimestamp(first, frames.front().timestamp);
+    const int index =
+        FindByTimestamp(first, frames.front().timestamp, tolerance);
     if (index < 0) {
       return Status::Error(options.first_pose +
                            ": no pose at the first frame's timestamp " +
@@ -120,16 +143,25 @@ Status ImportTum(const TumImportOptions& options,
   detection_options.allow_empty = true;
   for (const TumObjectFile& object : options.objects) {
     std::vector<TrajectoryPose> rows;
-    status = ReadTumTrajectory(object.path, detection_options, &rows);
+    status = ReadInput(object.path, detection_options, &rows, counts);
     if (!status.ok()) return status;
+    std::map<int, int> line_of_frame;  // frame -> the row's line
     for (const TrajectoryPose& row : rows) {
-      const int frame = FindByTimestamp(frames, row.timestamp);
+      const int frame = FindByTimestamp(frames, row.timestamp, tolerance);
       if (frame < 0) {
+        return Status::Error(
+            At(object.path, row.line) + ": timestamp " +
+            FormatDouble(row.timestamp) + " is not the time of any frame of " +
+            options.trajectory + " (within " + Approx(tolerance) + " s)");
+      }
+      const auto [it, inserted] = line_of_frame.emplace(frame, row.line);
+      if (!inserted) {
         return Status::Error(At(object.path, row.line) + ": timestamp " +
                              FormatDouble(row.timestamp) +
-                             " is not the time of any frame of " +
-                             options.trajectory + " (within " +
-                             Approx(kImportTimestampTolerance) + " s)");
+                             " is at the same frame (" +
+                             At(options.trajectory, frames[frame].line) +
+                             ") as line " + std::to_string(it->second) +
+                             " (within " + Approx(tolerance) + " s)");
       }
       if (static_cast<std::size_t>(frame) % stride != 0) continue;
       DetectionInput detection;
@@ -154,7 +186,7 @@ Status ImportTumToLog(const TumImportOptions& options,
   Status status = CheckOutputSparesInputs(log_path, inputs);
   LogHeader header;
   std::vector<KeyframeInput> keyframes;
-  if (status.ok()) status = ImportTum(options, &header, &keyframes);
+  if (status.ok()) status = ImportTum(options, &header, &keyframes, counts);
   if (status.ok()) status = WriteLogAtomically(log_path, header, keyframes);
   if (!status.ok() || counts == nullptr) return status;
   counts->keyframes = static_cast<int>(keyframes.size());

@@ -78,7 +78,13 @@ int RunImportTum(ImportTumFlags f) {
   symba::TumImportCounts counts;
   const symba::Status status = symba::ImportTumToLog(f.options, f.out, &counts);
   if (!status.ok()) return Fail("tum", status.message());
+  for (const std::string& warning : counts.warnings) {
+    std::fprintf(stderr, "symba import tum: warning: %s\n", warning.c_str());
+  }
   if (!f.quiet) {
+    for (const std::string& note : counts.notes) {
+      std::fprintf(stderr, "symba import tum: note: %s\n", note.c_str());
+    }
     std::fprintf(stderr,
                  "symba import tum: wrote %s: %d keyframes, %d detections\n",
                  f.out.c_str(),
@@ -231,13 +237,22 @@ void RegisterImportCommand(CLI::App* app, int* exit_code) {
                   "a TUM trajectory (e.g. ground truth) whose pose at the "
                   "first frame's time is the first keyframe's T_wc "
                   "(default: the front end's first pose)");
+  cmd->add_option("--time-tolerance",
+                  o.time_tolerance,
+                  "largest time difference (s) between a row of an object "
+                  "or --first-pose file and the trajectory's frame nearest "
+                  "to it")
+      ->check(CLI::NonNegativeNumber & symba::tools::FiniteNumber())
+      ->capture_default_str();
   f->sigma.Register(cmd);
   cmd->add_option("--class-prior",
                   f->class_priors,
                   "NAME=asymmetric | NAME=discrete:ORDER[:ax,ay,az] | "
                   "NAME=continuous[:ax,ay,az]; repeatable")
       ->allow_extra_args(false);
-  cmd->add_flag("--quiet", f->quiet, "no summary line on stderr");
+  cmd->add_flag("--quiet",
+                f->quiet,
+                "no notes and no summary line on stderr (warnings stay)");
   cmd->callback([f, exit_code] { *exit_code = RunImportTum(*f); });
   RegisterImportBop(import, exit_code);
 }

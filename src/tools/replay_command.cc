@@ -244,7 +244,8 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                   "--bop-out: the BOP scene id (default: the log header's "
                   "bop.scene_id, written by symba import bop)")
       ->check(CLI::NonNegativeNumber & symba::tools::FiniteNumber());
-  cmd->add_flag("--quiet", f->quiet, "no progress on stderr");
+  cmd->add_flag(
+      "--quiet", f->quiet, "no progress and no summary line on stderr");
   return cmd;
 }
 
@@ -321,11 +322,33 @@ int RunPoseGraphReplay(const ReplayFlags& f) {
     status = symba::WriteDirectoryAtomically(
         f.out, symba::PoseGraphOutputFiles(f.log, graph, summary));
   }
-  if (!status.ok()) {
-    std::fprintf(stderr, "symba replay: %s\n", status.message().c_str());
-    return 1;
+  if (!status.ok()) return Fail(status.message());
+  if (!f.quiet) {
+    std::fprintf(stderr,
+                 "symba replay: wrote %s: %d poses, %d edges in %.2f s\n",
+                 f.out.c_str(),
+                 summary.num_vertices,
+                 summary.num_edges,
+                 summary.seconds);
   }
   return 0;
+}
+
+// The closing line on stderr, as `symba import` ends: what was replayed, how
+// long it took and where it went.
+void PrintReplaySummary(const ReplayFlags& f,
+                        const symba::ReplayResult& result) {
+  std::fprintf(stderr,
+               "symba replay: wrote %s: %d keyframes, %d detections, %d map "
+               "objects in %.2f s",
+               f.out.c_str(),
+               static_cast<int>(result.keyframes.size()),
+               result.statistics.detections,
+               static_cast<int>(result.objects.size()),
+               result.seconds);
+  if (!f.bop_out.empty())
+    std::fprintf(stderr, "; BOP results %s", f.bop_out.c_str());
+  std::fprintf(stderr, "\n");
 }
 
 int RunReplay(const ReplayFlags& f) {
@@ -368,6 +391,7 @@ int RunReplay(const ReplayFlags& f) {
     status = symba::WriteBopResultsCsv(f.bop_out, bop_rows);
   }
   if (!status.ok()) return Fail(status.message());
+  if (!f.quiet) PrintReplaySummary(f, result);
   return 0;
 }
 

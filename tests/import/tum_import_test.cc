@@ -9,6 +9,7 @@
 
 #include "symba/import/class_prior_spec.h"
 #include "symba/import/tum_import.h"
+#include "symba/io/tum_trajectory.h"
 
 namespace symba {
 namespace {
@@ -222,6 +223,157 @@ TEST_F(TumImportTest, InvalidOptions) {
 TEST_F(TumImportTest, OutputDirectoryMissing) {
   out_ = (dir_ / "no_dir" / "out.jsonl").string();
   ExpectFailure(out_ + ": cannot open for writing (No such file or directory)");
+}
+
+// The log WritesTheExpectedLog expects, written from other forms of the
+// same inputs.
+std::string ExpectedSmallLog() {
+  return "{\"format\":\"symba-log\",\"version\":1}\n"
+         "{\"keyframe\":0,\"t\":0.0,\"T_wc\":{\"t\":[1.0,0.0,0.0],"
+         "\"q\":[0.0,0.0,0.0,1.0]},\"detections\":[{\"class\":\"can\","
+         "\"hypotheses\":[{\"t\":[0.0,0.0,1.0],\"q\":[0.0,0.0,0.0,1.0]}]}"
+         "]}\n"
+         "{\"keyframe\":2,\"t\":0.2,\"odometry\":{\"T\":{\"t\":[0.0,2.0,"
+         "0.0],\"q\":[0.0,0.0,1.0,0.0]},\"sigma_t\":0.005,\"sigma_r\":0.01},"
+         "\"detections\":[{\"class\":\"box\",\"hypotheses\":[{\"t\":[0.25,"
+         "-0.5,1.5],\"q\":[0.0,1.0,0.0,0.0]}]}]}\n";
+}
+
+TEST_F(TumImportTest, CommaSeparatedFilesGiveTheSameLog) {
+  Write("traj.txt",
+        "0.0,1,0,0,0,0,0,1\n"
+        "0.1, 1, 1, 0, 0, 0, 0, 1\n"
+        "0.2 ,1 ,2 ,0 ,0 ,0 ,1 ,0\n"
+        "0.3,\t1,3,0,0,0,1,0\n");
+  Write("can.txt", "0.0,0,0,1,0,0,0,1\n");
+  TumImportCounts counts;
+  const Status status = ImportTumToLog(options_, out_, &counts);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(Read(out_), ExpectedSmallLog());
+  EXPECT_TRUE(counts.notes.empty());
+  EXPECT_TRUE(counts.warnings.empty());
+}
+
+TEST_F(TumImportTest, EmptyCommaFieldIsNamed) {
+  Write("can.txt", "0.0,0,,1,0,0,0,1\n");
+  ExpectFailure(can_ + ":1: \"\" is not a finite number");
+}
+
+TEST_F(TumImportTest, NanosecondsAndMicrosecondsAreConvertedWithANote) {
+  // The same four frames 1.7e9 s after the epoch, in ns; the box in us.
+  Write("traj.txt",
+        "1700000000000000000 1 0 0 0 0 0 1\n"
+        "1700000000100000000 1 1 0 0 0 0 1\n"
+        "1700000000200000000 1 2 0 0 0 1 0\n"
+        "1700000000300000000 1 3 0 0 0 1 0\n");
+  Write("box.txt", "1700000000200000 0.25 -0.5 1.5 0 1 0 0\n");
+  Write("can.txt", "1700000000.0 0 0 1 0 0 0 1\n");
+  TumImportCounts counts;
+  const Status status = ImportTumToLog(options_, out_, &counts);
+  ASSERT_TRUE(status.ok()) << status.message();
+  const std::string log = Read(out_);
+  EXPECT_NE(log.find("{\"keyframe\":0,\"t\":1.7e+09,"), std::string::npos)
+      << log;
+  EXPECT_NE(log.find("{\"keyframe\":2,\"t\":1700000000.2,"), std::string::npos)
+      << log;
+  EXPECT_EQ(counts.detections, 2);
+  ASSERT_EQ(counts.notes.size(), 2u);
+  EXPECT_EQ(counts.notes[0],
+            traj_ +
+                ": timestamps read as nanoseconds (the first is "
+                "1700000000000000000), converted to seconds");
+  EXPECT_EQ(counts.notes[1],
+            box_ +
+                ": timestamps read as microseconds (the first is "
+                "1700000000200000), converted to seconds");
+}
+
+TEST_F(TumImportTest, SecondsJustBelowTheMicrosecondRuleStaySeconds) {
+  EXPECT_EQ(kMicrosecondsAbove, 1e14);
+  EXPECT_EQ(kNanosecondsAbove, 1e17);
+  Write("traj.txt", "100000000000000 1 0 0 0 0 0 1\n");
+  Write("can.txt", "100000000000000 0 0 1 0 0 0 1\n");
+  options_.objects = {{"can", can_}};
+  TumImportCounts counts;
+  ASSERT_TRUE(ImportTumToLog(options_, out_, &counts).ok());
+  EXPECT_TRUE(counts.notes.empty());
+  EXPECT_NE(Read(out_).find("\"t\":1e+14,"), std::string::npos) << Read(out_);
+}
+
+TEST_F(TumImportTest, HeaderWithoutHashIsNamed) {
+  Write("traj.txt", "timestamp tx ty tz qx qy qz qw\n0.0 1 0 0 0 0 0 1\n");
+  ExpectFailure(traj_ +
+                ":1: \"timestamp tx ty tz qx qy qz qw\" looks like a header: "
+                "TUM files have none; start the line with '#' to make it a "
+                "comment, or delete it");
+  Write("box.txt", "# comment\n\n  t,x,y,z,qx,qy,qz,qw\n");
+  Write("traj.txt", "0.0 1 0 0 0 0 0 1\n");
+  ExpectFailure(box_ +
+                ":3: \"t,x,y,z,qx,qy,qz,qw\" looks like a header: TUM files "
+                "have none; start the line with '#' to make it a comment, or "
+                "delete it");
+}
+
+TEST_F(TumImportTest, NanOnTheFirstLineIsANumberNotAHeader) {
+  Write("can.txt", "nan 0 0 1 0 0 0 1\n");
+  ExpectFailure(can_ + ":1: \"nan\" is not a finite number");
+}
+
+TEST_F(TumImportTest, AWordAfterTheFirstLineIsNotAHeader) {
+  Write("can.txt", "0.0 0 0 1 0 0 0 1\nnan 0 0 1 0 0 0 1\n");
+  ExpectFailure(can_ + ":2: \"nan\" is not a finite number");
+}
+
+TEST_F(TumImportTest, ObjectFileWithoutDetectionIsAWarning) {
+  Write("can.txt", "");
+  Write("box.txt", "0.0 0 0 0 0 0 0 0\n0.1 0 0 0 0 0 0 0\n");
+  TumImportCounts counts;
+  const Status status = ImportTumToLog(options_, out_, &counts);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(counts.detections, 0);
+  ASSERT_EQ(counts.warnings.size(), 2u);
+  EXPECT_EQ(
+      counts.warnings[0],
+      box_ + ": no detection (2 all-zero rows): the object is never seen");
+  EXPECT_EQ(counts.warnings[1],
+            can_ + ": no detection (no data line): the object is never seen");
+}
+
+TEST_F(TumImportTest, TimeToleranceMatchesTheNearestFrame) {
+  // 3 ms late: outside the default 1e-6 s, the nearest frame within 5 ms.
+  Write("box.txt", "0.203 0.25 -0.5 1.5 0 1 0 0\n");
+  Write("can.txt", "-0.004 0 0 1 0 0 0 1\n");
+  ExpectFailure(box_ + ":1: timestamp 0.203 is not the time of any frame of " +
+                traj_ + " (within 1e-06 s)");
+  options_.time_tolerance = 0.005;
+  const Status status = ImportTumToLog(options_, out_, nullptr);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(Read(out_), ExpectedSmallLog());
+}
+
+TEST_F(TumImportTest, TimeToleranceFirstPose) {
+  Write("gt.txt", "0.004 5 6 7 0 0 0 1\n");
+  options_.first_pose = gt_;
+  ExpectFailure(gt_ + ": no pose at the first frame's timestamp 0 (" + traj_ +
+                ":2)");
+  options_.time_tolerance = 0.005;
+  ASSERT_TRUE(ImportTumToLog(options_, out_, nullptr).ok());
+  EXPECT_NE(Read(out_).find("\"T_wc\":{\"t\":[5.0,6.0,7.0]"),
+            std::string::npos);
+}
+
+TEST_F(TumImportTest, TwoRowsAtOneFrameAreAnError) {
+  Write("box.txt",
+        "0.19 0.25 -0.5 1.5 0 1 0 0\n"
+        "0.21 0.25 -0.5 1.5 0 1 0 0\n");
+  options_.time_tolerance = 0.02;
+  ExpectFailure(box_ + ":2: timestamp 0.21 is at the same frame (" + traj_ +
+                ":4) as line 1 (within 0.02 s)");
+}
+
+TEST_F(TumImportTest, NegativeTimeToleranceIsRefused) {
+  options_.time_tolerance = -1.0;
+  ExpectFailure("time tolerance: must be finite and not negative, got -1");
 }
 
 TEST(ClassPriorSpec, Parses) {

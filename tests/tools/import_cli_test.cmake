@@ -17,6 +17,51 @@ function(expect_only name)
   endif()
 endfunction()
 
+if(EXPECT STREQUAL "frictions")
+  # A user's files as they come: the trajectory in nanoseconds with commas,
+  # the detections 2 ms off the frames, an object never detected. The
+  # import converts and matches (--time-tolerance), says so on stderr, and
+  # writes what the seconds files give.
+  file(STRINGS ${SEQ}/orbslam3_T_wc.txt rows LIMIT_COUNT 10)
+  set(ns "")
+  set(late "")
+  foreach(row IN LISTS rows)
+    # CMake's REGEX REPLACE repeats a ^ match, so the fields are captured.
+    if(NOT row MATCHES "^0\\.([0-9])[0-9]* (.*)$")
+      message(FATAL_ERROR "unexpected row of ${SEQ}/orbslam3_T_wc.txt: ${row}")
+    endif()
+    set(pose "${CMAKE_MATCH_2}")
+    set(tenth "${CMAKE_MATCH_1}")
+    string(REPLACE " " "," comma_pose "${pose}")
+    string(APPEND ns "1700000000${tenth}00000000,${comma_pose}\n")
+    string(APPEND late "1700000000.${tenth}02 ${pose}\n")
+  endforeach()
+  file(WRITE ${WORK_DIR}/fe.csv "${ns}")
+  file(WRITE ${WORK_DIR}/late.txt "${late}")
+  file(WRITE ${WORK_DIR}/never.txt "")
+  execute_process(COMMAND ${SYMBA} import tum --trajectory ${WORK_DIR}/fe.csv
+      --object late=${WORK_DIR}/late.txt --object never=${WORK_DIR}/never.txt
+      --stride 5 --time-tolerance 0.005 --out ${out}
+    RESULT_VARIABLE rc ERROR_VARIABLE stderr)
+  set(expected "symba import tum: warning: ${WORK_DIR}/never.txt: no detection (no data line): the object is never seen
+symba import tum: note: ${WORK_DIR}/fe.csv: timestamps read as nanoseconds (the first is 1700000000000000000), converted to seconds
+symba import tum: wrote ${out}: 2 keyframes, 2 detections\n")
+  if(NOT rc EQUAL 0 OR NOT stderr STREQUAL expected)
+    message(FATAL_ERROR "exit ${rc}, stderr '${stderr}', expected '${expected}'")
+  endif()
+  file(REMOVE ${out})
+  # Without the tolerance the late rows are at no frame: exit 1, no log.
+  execute_process(COMMAND ${SYMBA} import tum --trajectory ${WORK_DIR}/fe.csv
+      --object late=${WORK_DIR}/late.txt --out ${out}
+    RESULT_VARIABLE rc ERROR_VARIABLE stderr)
+  if(rc EQUAL 0 OR NOT stderr MATCHES "late.txt:1: timestamp 1700000000.002 is not the time of any frame")
+    message(FATAL_ERROR "exit ${rc}, stderr '${stderr}'")
+  endif()
+  if(EXISTS ${out})
+    message(FATAL_ERROR "a failed import wrote ${out}")
+  endif()
+  return()
+endif()
 if(EXPECT STREQUAL "failure")
   file(STRINGS ${SEQ}/dope_003_cracker_box_T_co.txt rows)
   list(GET rows 6 row)

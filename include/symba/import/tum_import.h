@@ -12,12 +12,17 @@
 // front end's T_wc is in another world frame.
 //
 // An object file holds T_co rows of one object of class NAME; an all-zero
-// row means "not detected" and a file may have no detection at all. A row
-// whose timestamp is within kImportTimestampTolerance of a keyframe's
-// becomes one detection with one hypothesis (weight 1); rows at other
-// frames are ignored; a row at no frame of the trajectory is an error. A
-// keyframe's detections are in the order of `objects`, with the log's
-// default ids "<keyframe>/<index>".
+// row means "not detected" and a file may have no detection at all (a
+// warning). A row belongs to the frame nearest in time, if that is within
+// `time_tolerance`; at a keyframe it becomes one detection with one
+// hypothesis (weight 1); rows at other frames are ignored; a row at no
+// frame of the trajectory is an error, and so are two rows of one file at
+// the same frame. A keyframe's detections are in the order of `objects`,
+// with the log's default ids "<keyframe>/<index>".
+//
+// Every file is read by ReadTumTrajectory (symba/io/tum_trajectory.h):
+// comma or whitespace separators, and nanosecond or microsecond timestamps
+// converted to seconds (a note names each such file).
 #ifndef SYMBA_IMPORT_TUM_IMPORT_H_
 #define SYMBA_IMPORT_TUM_IMPORT_H_
 
@@ -33,8 +38,7 @@
 
 namespace symba {
 
-// Rows of different files are the same frame when their timestamps differ
-// by at most this much [s].
+// The default of TumImportOptions::time_tolerance [s].
 inline constexpr double kImportTimestampTolerance = 1e-6;
 
 // One object's detections: a TUM file of T_co rows, and its class name.
@@ -57,20 +61,31 @@ struct TumImportOptions {
   std::optional<double> detection_sigma_t;    // m
   std::optional<double> detection_sigma_r;    // rad
   std::map<std::string, ClassPrior> classes;  // the header's class priors
+  // Rows of different files are the same frame when their timestamps
+  // differ by at most this much [s] (>= 0).
+  double time_tolerance = kImportTimestampTolerance;
+};
+
+// What an import did besides the log: counts, notes (timestamps converted
+// from ns or us) and warnings (an object file without a detection), each
+// a sentence that starts with the file's path.
+struct TumImportCounts {
+  int keyframes = 0;
+  int detections = 0;
+  std::vector<std::string> notes;
+  std::vector<std::string> warnings;
 };
 
 // Reads every input strictly and builds the log in memory. Errors read
 // "FILE:LINE: reason" (a malformed or unmatched line), "FILE: reason"
 // (missing file, no pose at the first frame) or "option: reason" (an
 // invalid option); on an error the outputs are unspecified.
+// `counts` (may be null) gets the notes and warnings; its counts are
+// ImportTumToLog's.
 Status ImportTum(const TumImportOptions& options,
                  LogHeader* header,
-                 std::vector<KeyframeInput>* keyframes);
-
-struct TumImportCounts {
-  int keyframes = 0;
-  int detections = 0;
-};
+                 std::vector<KeyframeInput>* keyframes,
+                 TumImportCounts* counts = nullptr);
 
 // ImportTum, then WriteLogAtomically (symba/io/log_file.h) to `log_path`:
 // on any error `log_path` is left as it was. `counts` may be null.

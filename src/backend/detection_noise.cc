@@ -13,7 +13,7 @@ namespace {
 
 // The correlations the fit tries (rho = 0: no persistent part apart from
 // the white one).
-constexpr std::array<double, 14> kCorrelationGrid = {0.0,
+constexpr std::array<double, 16> kCorrelationGrid = {0.0,
                                                      0.3,
                                                      0.5,
                                                      0.6,

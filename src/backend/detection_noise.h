@@ -62,7 +62,7 @@ inline constexpr double kChiSquare6Median = 5.3481206;
 inline constexpr double kMinSigmaT = 1e-3;  // m
 inline constexpr double kMinSigmaR = 1e-3;  // rad
 // The largest correlation of consecutive errors the fit believes.
-inline constexpr double kMaxCorrelation = 0.995;
+inline constexpr double kMaxCorrelation = 0.999;
 // Lag bins: 1, 2-3, 4-7, ..., 256-511 keyframes.
 inline constexpr int kLagBins = 9;
 // A bin takes part in the fit with at least this many samples.

@@ -89,18 +89,19 @@ internal::AssociationScope Backend::Impl::Scope(
 
 std::optional<double> Backend::Impl::GateSigma(
     const DetectionInput& detection) const {
+  // The noise the detection is weighed with: a persistent error makes an
+  // object's detections wander by more than one detection's scatter.
   const auto it = applied_noise_.find(detection.class_name);
-  // The gate wants the scatter itself, not the weight's persistence.
-  const std::optional<double> scatter =
-      it == applied_noise_.end() ? std::nullopt : it->second.scatter_t;
+  const std::optional<double> learned =
+      it == applied_noise_.end() ? std::nullopt : it->second.sigma_t;
   if (detection.sigma_t || detection.sigma_r) {
     return internal::EffectiveSigma(
         detection.sigma_t.value_or(options_.hypothesis_sigma_t),
         /*claimed=*/true,
-        scatter,
+        learned,
         options_.noise_contradiction_ratio);
   }
-  return scatter;
+  return learned;
 }
 
 int Backend::Impl::AddSingleOrMultiHypothesis(int k,

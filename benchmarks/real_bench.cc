@@ -823,6 +823,15 @@ int main(int argc, char** argv) {
                  flags.backend.estimate_noise,
                  "replay option: estimate the detection noise")
       ->capture_default_str();
+  app.add_option("--uncalibrated-sigma-t",
+                 flags.backend.uncalibrated_sigma_t,
+                 "replay option: the least noise an uncalibrated detection "
+                 "is weighed with (m)")
+      ->capture_default_str();
+  app.add_option("--uncalibrated-sigma-r",
+                 flags.backend.uncalibrated_sigma_r,
+                 "the same for rotation (rad)")
+      ->capture_default_str();
   std::string window_policy =
       symba::WindowPolicyName(flags.backend.window_policy);
   app.add_option("--window-policy",

@@ -80,13 +80,12 @@ class BackendOptions:
     noise_window: int
     noise_min_samples: int
     noise_update_ratio: float
-    noise_bootstrap_keyframes: int
-    noise_contradiction_ratio: float
+    uncalibrated_sigma_t: float
+    uncalibrated_sigma_r: float
     min_support: float
     min_support_views: int
     upgrade_evidence: int
     upgrade_min_fraction: float
-    upgrade_min_views: int
     max_upgrade_order: int
     upgrade_angle_tolerance: float
     categorization: CategorizationOptions

@@ -50,44 +50,9 @@ Backend::Impl::Impl(const BackendOptions& options,
       class_priors_(class_priors),
       object_loss_(MakeLoss(options.object_loss, options.object_loss_scale)),
       point_loss_(std::make_unique<ceres::HuberLoss>(options.point_loss_scale)),
-      noise_(options.noise_window, options.noise_min_samples),
-      odometry_noise_(options.noise_window, options.noise_min_samples) {
-  noise_bootstrap_ = options.estimate_noise;
+      noise_(options.noise_window, options.noise_min_samples) {
   marginalization_.min_winner_margin = options.marginalize_min_margin;
   marginalization_.rival_distance = options.marginalize_rival_distance;
-}
-
-namespace {
-
-std::optional<ClassNoiseEstimate::Fit> PublicFit(
-    const std::optional<internal::VariogramFit>& fit) {
-  if (!fit) return std::nullopt;
-  return ClassNoiseEstimate::Fit{std::sqrt(fit->white),
-                                 std::sqrt(fit->persistent),
-                                 fit->rho,
-                                 fit->Inflation()};
-}
-
-}  // namespace
-
-NoiseEstimates Backend::Impl::Noise() const {
-  NoiseEstimates estimates;
-  if (!options_.estimate_noise) return estimates;
-  for (const std::string& name : noise_.Classes()) {
-    const internal::ClassNoise noise = noise_.Estimate(name);
-    ClassNoiseEstimate estimate;
-    estimate.class_name = name;
-    estimate.sigma_t = noise.sigma_t;
-    estimate.sigma_r = noise.sigma_r;
-    estimate.translation = PublicFit(noise.translation);
-    estimate.rotation = PublicFit(noise.rotation);
-    estimate.samples_t = noise.samples_t;
-    estimate.samples_r = noise.samples_r;
-    estimates.classes.push_back(std::move(estimate));
-  }
-  estimates.odometry_sigma_factor = std::sqrt(applied_odometry_scale_);
-  estimates.odometry_estimated = odometry_noise_.Scale().has_value();
-  return estimates;
 }
 
 int Backend::Impl::WindowStart() const {
@@ -117,6 +82,7 @@ Status Backend::Impl::AddKeyframe(
   kf->id = input.id;
   kf->timestamp = input.timestamp;
   internal::WritePose(InitialPose(input), kf->q, kf->t);
+  kf->T_wc_chain = ChainPose(input);
   if (input.T_wc) kf->T_wc_frontend = Normalized(*input.T_wc);
   const int k = static_cast<int>(keyframes_.size());
   keyframes_.push_back(std::move(kf));
@@ -134,6 +100,15 @@ Status Backend::Impl::AddKeyframe(
   }
   UpdateTentativeObjects(k);
   if (options_.min_support > 0.0) PruneUnsupportedObjects(k);
+  if (options_.estimate_noise) {
+    std::vector<std::string> classes;
+    for (const DetectionInput& det : input.detections) {
+      classes.push_back(det.class_name);
+    }
+    std::sort(classes.begin(), classes.end());
+    classes.erase(std::unique(classes.begin(), classes.end()), classes.end());
+    UpdateDetectionNoise(classes);
+  }
   if (assignments != nullptr) {
     assignments->assign(assignments_.begin() + first_assignment,
                         assignments_.end());
@@ -258,12 +233,7 @@ int Backend::Impl::SetKeyframeFreedom(int first_free, int gauge) {
 Status Backend::Impl::OptimizeWindow(SolveReport* report) {
   if (keyframes_.empty()) return Status::Error("no keyframes to optimise");
   const auto start = std::chrono::steady_clock::now();
-  if (options_.estimate_noise) LearnNoise(WindowStart());
-  const bool bootstrap_was_on = noise_bootstrap_;
-  const int first = NoiseBootstrap() ? 0 : WindowStart();
-  // The solve that ends the bootstrap moves every keyframe to the learned
-  // noise: it gets the batch solve's iterations.
-  const bool bootstrap_ends = bootstrap_was_on && !noise_bootstrap_;
+  const int first = WindowStart();
   const WindowPolicy policy = options_.window_policy;
   internal::WindowProblem::SyncOptions sync;
   // The gauge: the first keyframe while in the window; under drop the
@@ -279,11 +249,7 @@ Status Backend::Impl::OptimizeWindow(SolveReport* report) {
   }
   const int free_keyframes = SetKeyframeFreedom(first, gauge);
   return Solve(
-      "window",
-      bootstrap_ends ? options_.batch_max_iterations : options_.max_iterations,
-      free_keyframes,
-      start,
-      report);
+      "window", options_.max_iterations, free_keyframes, start, report);
 }
 
 Status Backend::Impl::OptimizeBatch(SolveReport* report) {
@@ -483,8 +449,6 @@ const std::vector<DetectionAssignment>& Backend::Assignments() const {
 }
 
 BackendStatistics Backend::Statistics() const { return impl_->statistics_; }
-
-NoiseEstimates Backend::Noise() const { return impl_->Noise(); }
 
 const BackendOptions& Backend::options() const { return impl_->options_; }
 

@@ -52,7 +52,6 @@ class Backend::Impl {
   std::vector<MapObjectEstimate> Objects() const;
   std::optional<KeyframeEstimate> Keyframe(KeyframeId id) const;
   std::optional<MapObjectEstimate> Object(ObjectId id) const;
-  NoiseEstimates Noise() const;
 
   const BackendOptions options_;
   std::vector<DetectionAssignment> assignments_;
@@ -61,12 +60,9 @@ class Backend::Impl {
  private:
   // Keyframe pose initialisation and camera factors (keyframe_factors.cc).
   Rigid3d InitialPose(const KeyframeInput& input) const;
+  // The same from the front end alone (KeyframeState::T_wc_chain).
+  Rigid3d ChainPose(const KeyframeInput& input) const;
   void AddCameraFactors(int k, const KeyframeInput& input);
-  // Keyframe k's camera motion factor from its stored motion, with the
-  // stated sigmas times the learned odometry factor; and the same in place
-  // of the one it has.
-  void AddMotionFactor(int k);
-  void RebuildMotionFactor(int k);
   void AddPointObservations(int k, const KeyframeInput& input);
 
   // Detections, per method (detections.cc). CategorizeDetections runs before
@@ -152,32 +148,12 @@ class Backend::Impl {
   // detected in too few of their views (min_support).
   void PruneUnsupportedObjects(int k);
   // A detection of object o in keyframe k (its position, and its rotation
-  // where it has one), kept until the keyframe's pose is final
-  // (detection_noise.h).
+  // where it has one) as noise samples of the class, taken at the front
+  // end's pose of the keyframe (detection_noise.h).
   void SampleNoise(int o,
                    int k,
                    const Eigen::Vector3d& t_co,
                    const std::optional<Eigen::Quaterniond>& R_co);
-  // The keyframes before `first` that have not been sampled yet: their
-  // detections and odometry as noise samples; then each sampled class's
-  // noise and the odometry weight are refitted.
-  void LearnNoise(int first);
-  // True while the noise is being learned (the bootstrap): no keyframe
-  // leaves the window until the odometry factor and a class's noise are
-  // known (or noise_bootstrap_keyframes were added); then every motion
-  // factor and object edge is rebuilt with them and the window solve that
-  // ends the bootstrap still covers every keyframe.
-  bool NoiseBootstrap();
-  // Refits the odometry factor; rebuilds the window's motion factors when
-  // it moved by more than noise_update_ratio (in sigma).
-  void UpdateOdometryNoise();
-  // Keyframe k's detections (placed with its final pose) and its odometry
-  // step's residual as samples; adds the classes it sampled to `classes`.
-  void SampleKeyframeNoise(int k, std::vector<std::string>* classes);
-  // A placement of object o: its level and its lags to the object's
-  // earlier placements.
-  void SamplePlacement(internal::ObjectState* object,
-                       const internal::Placement& now);
   // The association scope of a detection in keyframe k.
   internal::AssociationScope Scope(const DetectionInput& detection,
                                    int k,
@@ -250,10 +226,6 @@ class Backend::Impl {
   double view_depth_ = 0.0;     // the largest detection distance (m)
   std::map<std::string, std::vector<int>> objects_by_class_;
   internal::DetectionNoiseEstimator noise_;
-  internal::OdometryNoiseEstimator odometry_noise_;
-  int noise_sampled_until_ = 0;  // keyframes before it were sampled
-  bool noise_bootstrap_ = false;
-  double applied_odometry_scale_ = 1.0;  // s the window's factors carry
   std::map<std::string, internal::ClassNoise> applied_noise_;
   internal::WindowProblem problem_;
   int marginalized_until_ = 0;

@@ -134,6 +134,8 @@ Status BackendOptions::Validate() const {
       {"gate_angle", gate_angle},
       {"reanchor_angle", reanchor_angle},
       {"upgrade_angle_tolerance", upgrade_angle_tolerance},
+      {"uncalibrated_sigma_t", uncalibrated_sigma_t},
+      {"uncalibrated_sigma_r", uncalibrated_sigma_r},
   };
   for (const auto& option : positive) {
     if (!PositiveFinite(option.value)) {
@@ -169,9 +171,6 @@ Status BackendOptions::Validate() const {
     return Status::Error(
         "min_support must be in [0, 1] and min_support_views >= 1");
   }
-  if (upgrade_min_views < 1) {
-    return Status::Error("upgrade_min_views must be >= 1");
-  }
   if (max_upgrade_order < 2) {
     return Status::Error("max_upgrade_order must be >= 2");
   }
@@ -180,13 +179,6 @@ Status BackendOptions::Validate() const {
   }
   if (!(std::isfinite(noise_update_ratio) && noise_update_ratio >= 1.0)) {
     return Status::Error("noise_update_ratio must be finite and >= 1");
-  }
-  if (noise_bootstrap_keyframes < 1) {
-    return Status::Error("noise_bootstrap_keyframes must be >= 1");
-  }
-  if (!(std::isfinite(noise_contradiction_ratio) &&
-        noise_contradiction_ratio >= 1.0)) {
-    return Status::Error("noise_contradiction_ratio must be finite and >= 1");
   }
   if (upgrade_angle_tolerance >= kPi / 2) {
     return Status::Error("upgrade_angle_tolerance must be < pi/2");

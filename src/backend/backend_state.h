@@ -5,7 +5,6 @@
 #define SYMBA_SRC_BACKEND_BACKEND_STATE_H_
 
 #include <cstdint>
-#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -42,35 +41,20 @@ inline void WritePose(const Rigid3d& T, double* q, double* t) {
   t_map = T.t;
 }
 
-// A detection of a map object, kept for the noise estimate: its position
-// and, for an asymmetric object, its rotation in the camera frame.
-struct NoiseProbe {
-  int object = -1;  // object index
-  Eigen::Vector3d t_co = Eigen::Vector3d::Zero();
-  std::optional<Eigen::Quaterniond> R_co;
-};
-
 struct KeyframeState {
   int64_t id = 0;
   double timestamp = 0.0;
   double q[4] = {0, 0, 0, 1};  // q_wc, Eigen order
   double t[3] = {0, 0, 0};     // t_wc
   std::optional<Rigid3d> T_wc_frontend;
+  // Where the front end alone puts this keyframe: the first pose chained
+  // with every odometry or front-end relative motion, never optimised (the
+  // detection noise is measured against it, detection_noise.h).
+  Rigid3d T_wc_chain;
   // The variance one step of the camera motion factor adds to the
   // predicted pose (m^2, rad^2; 0 without a motion factor).
   double motion_variance_t = 0.0;
   double motion_variance_r = 0.0;
-  // Its camera motion factor as the front end gives it (the relative pose
-  // from keyframe motion_from, with the stated sigmas), for the odometry
-  // weight (detection_noise.h); motion_from -1: none.
-  int motion_from = -1;
-  int motion_factor = -1;  // its factor's index
-  Rigid3d motion;
-  double stated_sigma_t = 0.0;  // m
-  double stated_sigma_r = 0.0;  // rad
-  // Its detections as the noise estimate samples them once its pose is
-  // final (when it leaves the window); emptied then.
-  std::vector<NoiseProbe> noise_probes;
   std::vector<int> factors;  // every factor touching this keyframe
 
   Rigid3d T_wc() const { return ReadPose(q, t); }
@@ -115,17 +99,6 @@ struct UpgradeRecord {
   double angle = 0.0;  // the flips' mean twist angle (rad)
 };
 
-// A detection placed in the world with its keyframe's final pose, for the
-// noise estimate.
-struct Placement {
-  int keyframe = -1;                                   // keyframe index
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // m, world
-  std::optional<Eigen::Quaterniond> rotation;  // R_wo, asymmetric objects
-};
-// How many of an object's placements the noise estimate pairs a new one
-// with: lags up to 511 keyframes (detection_noise.h).
-inline constexpr size_t kPlacementHistory = 512;
-
 struct ObjectState {
   int id = 0;
   ObjectStatus status = ObjectStatus::kConfirmed;
@@ -137,9 +110,15 @@ struct ObjectState {
   std::vector<int> assignments;    // indices into the backend's assignments
   std::vector<FlipEvidence> flips;
   std::optional<UpgradeRecord> upgrade;
-  // Its last kPlacementHistory placements (detection_noise.h), in keyframe
-  // order.
-  std::deque<Placement> placements;
+  // Its detections where the front end alone puts them (detection_noise.h):
+  // running sums for the mean position and rotation, and the last one.
+  Eigen::Vector3d chain_position_sum = Eigen::Vector3d::Zero();
+  Eigen::Vector4d chain_rotation_sum = Eigen::Vector4d::Zero();
+  int chain_count = 0;
+  int chain_rotation_count = 0;
+  int chain_last_keyframe = -1;
+  Eigen::Vector3d chain_last_position = Eigen::Vector3d::Zero();
+  std::optional<Eigen::Quaterniond> chain_last_rotation;
   std::string class_name;
   SymmetryType type = SymmetryType::kAsymmetric;
   double q[4] = {0, 0, 0, 1};                     // q_wo (asymmetric)

@@ -64,15 +64,17 @@ void Backend::Impl::AddDetection(int k,
 
 void Backend::Impl::SetObservationNoise(const DetectionInput& detection,
                                         ObjectObservation* observation) const {
-  // A detection that gives a sigma claims it: what it gives is taken as
-  // the prior, the options' default fills in the other. Without either:
-  // the default, until the class's estimate replaces it
-  // (detection_noise.h, EffectiveSigma).
+  // A detection that gives a sigma is calibrated: what it gives is taken
+  // as it is, the options' default fills in the other. Without either: the
+  // default, or with estimation the floor for an uncalibrated detector.
   const bool calibrated = detection.sigma_t || detection.sigma_r;
-  observation->sigma_t =
-      detection.sigma_t.value_or(options_.hypothesis_sigma_t);
-  observation->sigma_r =
-      detection.sigma_r.value_or(options_.hypothesis_sigma_r);
+  const bool uncalibrated_floor = !calibrated && options_.estimate_noise;
+  observation->sigma_t = detection.sigma_t.value_or(
+      uncalibrated_floor ? options_.uncalibrated_sigma_t
+                         : options_.hypothesis_sigma_t);
+  observation->sigma_r = detection.sigma_r.value_or(
+      uncalibrated_floor ? options_.uncalibrated_sigma_r
+                         : options_.hypothesis_sigma_r);
   observation->claimed_t = calibrated;
   observation->claimed_r = calibrated;
 }
@@ -89,19 +91,14 @@ internal::AssociationScope Backend::Impl::Scope(
 
 std::optional<double> Backend::Impl::GateSigma(
     const DetectionInput& detection) const {
-  // The noise the detection is weighed with: a persistent error makes an
-  // object's detections wander by more than one detection's scatter.
   const auto it = applied_noise_.find(detection.class_name);
-  const std::optional<double> learned =
+  const std::optional<double> estimate =
       it == applied_noise_.end() ? std::nullopt : it->second.sigma_t;
+  // The gate wants the scatter itself, not the floor of the weighting.
   if (detection.sigma_t || detection.sigma_r) {
-    return internal::EffectiveSigma(
-        detection.sigma_t.value_or(options_.hypothesis_sigma_t),
-        /*claimed=*/true,
-        learned,
-        options_.noise_contradiction_ratio);
+    return detection.sigma_t.value_or(options_.hypothesis_sigma_t);
   }
-  return learned;
+  return estimate;
 }
 
 int Backend::Impl::AddSingleOrMultiHypothesis(int k,

@@ -3,9 +3,7 @@
 // motion factor and its point observations (reprojection and, with a depth,
 // the point depth factor; a point is created from its first observation
 // with a depth).
-#include <cmath>
 #include <memory>
-#include <optional>
 #include <utility>
 
 #include "backend/backend_impl.h"
@@ -37,6 +35,20 @@ Rigid3d Backend::Impl::InitialPose(const KeyframeInput& input) const {
   return Normalized(*input.T_wc);
 }
 
+Rigid3d Backend::Impl::ChainPose(const KeyframeInput& input) const {
+  if (keyframes_.empty()) return Normalized(*input.T_wc);
+  if (input.odometry) {
+    return Normalized(keyframes_.back()->T_wc_chain *
+                      Normalized(input.odometry->T_prev_cur));
+  }
+  if (last_frontend_keyframe_ >= 0) {
+    const KeyframeState& anchor = *keyframes_[last_frontend_keyframe_];
+    return Normalized(anchor.T_wc_chain * anchor.T_wc_frontend->Inverse() *
+                      Normalized(*input.T_wc));
+  }
+  return Normalized(*input.T_wc);
+}
+
 void Backend::Impl::AddCameraFactors(int k, const KeyframeInput& input) {
   KeyframeState& kf = *keyframes_[k];
   int other = -1;
@@ -55,37 +67,17 @@ void Backend::Impl::AddCameraFactors(int k, const KeyframeInput& input) {
                                       options_.frontend_sigma_r);
   }
   if (other < 0) return;
-  kf.motion_from = other;
-  kf.motion = T_other_cur;
-  kf.stated_sigma_t = 1.0 / sqrt_info(0, 0);
-  kf.stated_sigma_r = 1.0 / sqrt_info(3, 3);
-  AddMotionFactor(k);
-}
-
-void Backend::Impl::AddMotionFactor(int k) {
-  KeyframeState& kf = *keyframes_[k];
-  // The odometry weight learned from the run (detection_noise.h): the
-  // stated sigmas times sqrt(s).
-  const double factor = std::sqrt(applied_odometry_scale_);
-  const double sigma_t = factor * kf.stated_sigma_t;
-  const double sigma_r = factor * kf.stated_sigma_r;
+  const double sigma_t = 1.0 / sqrt_info(0, 0);
+  const double sigma_r = 1.0 / sqrt_info(3, 3);
   kf.motion_variance_t = sigma_t * sigma_t;
   kf.motion_variance_r = sigma_r * sigma_r;
-  KeyframeState& prev = *keyframes_[kf.motion_from];
+  KeyframeState& prev = *keyframes_[other];
   FactorRecord record;
-  record.cost.reset(RelativePoseFactor::Create(
-      kf.motion, IsotropicPoseSqrtInfo(sigma_t, sigma_r)));
+  record.cost.reset(RelativePoseFactor::Create(T_other_cur, sqrt_info));
   record.blocks = {prev.q, prev.t, kf.q, kf.t};
   record.keyframe = k;
-  record.keyframe2 = kf.motion_from;
-  kf.motion_factor = AddFactor(std::move(record));
-}
-
-void Backend::Impl::RebuildMotionFactor(int k) {
-  KeyframeState& kf = *keyframes_[k];
-  if (kf.motion_factor < 0) return;
-  problem_.Retire(kf.motion_factor);
-  AddMotionFactor(k);
+  record.keyframe2 = other;
+  AddFactor(std::move(record));
 }
 
 void Backend::Impl::AddPointObservations(int k, const KeyframeInput& input) {

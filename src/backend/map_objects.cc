@@ -7,7 +7,6 @@
 // changes.
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <utility>
 
 #include "backend/backend_impl.h"
@@ -157,12 +156,8 @@ bool Backend::Impl::RecordFlip(int o,
   }
   // keyframes_seen counts this keyframe only after the detection.
   const int seen = object.keyframes_seen + (object.last_keyframe == k ? 0 : 1);
-  // The share counts over at least upgrade_min_views keyframes: a textured
-  // object that a detector turns for a few views in a row is no symmetric
-  // one.
-  const int views = std::max(seen, options_.upgrade_min_views);
   if (consensus.count < options_.upgrade_evidence ||
-      consensus.count < options_.upgrade_min_fraction * views || order == 0) {
+      consensus.count < options_.upgrade_min_fraction * seen || order == 0) {
     ++statistics_.rotation_outliers;
     return false;
   }
@@ -323,7 +318,6 @@ void Backend::Impl::RebuildStaleObjectFactors() {
 void Backend::Impl::UpdateDetectionNoise(
     const std::vector<std::string>& classes) {
   for (const std::string& class_name : classes) {
-    noise_.Update(class_name);
     const internal::ClassNoise estimate = noise_.Estimate(class_name);
     internal::ClassNoise& applied = applied_noise_[class_name];
     auto moved = [&](const std::optional<double>& now,
@@ -351,126 +345,50 @@ void Backend::Impl::SampleNoise(int o,
                                 int k,
                                 const Eigen::Vector3d& t_co,
                                 const std::optional<Eigen::Quaterniond>& R_co) {
-  keyframes_[k]->noise_probes.push_back({o, t_co, R_co});
-}
-
-void Backend::Impl::LearnNoise(int first) {
-  std::vector<std::string> classes;
-  const bool sampled_any = noise_sampled_until_ < first;
-  while (noise_sampled_until_ < first) {
-    SampleKeyframeNoise(noise_sampled_until_++, &classes);
-  }
-  if (!sampled_any) return;
-  std::sort(classes.begin(), classes.end());
-  classes.erase(std::unique(classes.begin(), classes.end()), classes.end());
-  UpdateDetectionNoise(classes);
-  UpdateOdometryNoise();
-}
-
-void Backend::Impl::UpdateOdometryNoise() {
-  odometry_noise_.Update();
-  const std::optional<double> now = odometry_noise_.Scale();
-  if (!now) return;
-  // Variances: the sigmas' ratio squared.
-  const double ratio = *now / applied_odometry_scale_;
-  const double update =
-      options_.noise_update_ratio * options_.noise_update_ratio;
-  if (ratio <= update && ratio >= 1.0 / update) return;
-  applied_odometry_scale_ = *now;
-  for (int k = WindowStart(); k < static_cast<int>(keyframes_.size()); ++k) {
-    RebuildMotionFactor(k);
-  }
-}
-
-bool Backend::Impl::NoiseBootstrap() {
-  if (!noise_bootstrap_) return false;
-  bool class_known = false;
-  for (const auto& [name, noise] : applied_noise_) {
-    class_known = class_known || noise.sigma_t.has_value();
-  }
-  const bool learned = odometry_noise_.Scale().has_value() && class_known;
-  const bool capped =
-      static_cast<int>(keyframes_.size()) >= options_.noise_bootstrap_keyframes;
-  if (!learned && !capped) return true;
-  noise_bootstrap_ = false;
-  for (size_t k = 0; k < keyframes_.size(); ++k) {
-    RebuildMotionFactor(static_cast<int>(k));
-  }
-  for (size_t o = 0; o < objects_.size(); ++o) {
-    if (objects_[o]->status != internal::ObjectStatus::kDropped) {
-      RebuildObjectFactors(static_cast<int>(o));
+  using Kind = internal::DetectionNoiseEstimator::Kind;
+  ObjectState& object = *objects_[o];
+  const Rigid3d& T_wc = keyframes_[k]->T_wc_chain;
+  const Eigen::Vector3d p = T_wc * t_co;
+  const bool sample = object.status == internal::ObjectStatus::kConfirmed;
+  const bool consecutive = object.chain_last_keyframe == k - 1;
+  if (sample && object.chain_count > 0) {
+    noise_.AddTranslation(
+        object.class_name,
+        Kind::kLevel,
+        (p - object.chain_position_sum / object.chain_count).norm());
+    if (consecutive) {
+      noise_.AddTranslation(object.class_name,
+                            Kind::kIncrement,
+                            (p - object.chain_last_position).norm());
     }
   }
-  return true;
-}
-
-void Backend::Impl::SampleKeyframeNoise(int k,
-                                        std::vector<std::string>* classes) {
-  KeyframeState& kf = *keyframes_[k];
-  const Rigid3d T_wc = kf.T_wc();
-  for (const internal::NoiseProbe& probe : kf.noise_probes) {
-    ObjectState& object = *objects_[probe.object];
-    if (object.status == internal::ObjectStatus::kDropped) continue;
-    internal::Placement now;
-    now.keyframe = k;
-    now.position = T_wc * probe.t_co;
-    if (probe.R_co && object.type == SymmetryType::kAsymmetric) {
-      now.rotation = (T_wc.q * *probe.R_co).normalized();
-    }
-    if (object.status == internal::ObjectStatus::kConfirmed) {
-      SamplePlacement(&object, now);
-      classes->push_back(object.class_name);
-    }
-    object.placements.push_back(now);
-    if (object.placements.size() > internal::kPlacementHistory) {
-      object.placements.pop_front();
-    }
+  object.chain_position_sum += p;
+  ++object.chain_count;
+  object.chain_last_position = p;
+  object.chain_last_keyframe = k;
+  if (!R_co || object.type != SymmetryType::kAsymmetric) {
+    object.chain_last_rotation.reset();
+    return;
   }
-  kf.noise_probes = {};
-  // The odometry step's residual, whitened by the sigmas the front end
-  // states: (t error / sigma_t, rotation error / sigma_r) of
-  // T_meas^-1 T_from^-1 T_k.
-  if (kf.motion_from < 0) return;
-  const Rigid3d error = kf.motion.Inverse() *
-                        (keyframes_[kf.motion_from]->T_wc().Inverse() * T_wc);
-  const Eigen::AngleAxisd rotation(error.q.normalized());
-  Eigen::Matrix<double, 6, 1> whitened;
-  whitened.head<3>() = error.t / kf.stated_sigma_t;
-  whitened.tail<3>() = rotation.angle() * rotation.axis() / kf.stated_sigma_r;
-  odometry_noise_.Add(whitened, kf.motion_from == k - 1);
-}
-
-void Backend::Impl::SamplePlacement(ObjectState* object,
-                                    const internal::Placement& now) {
-  noise_.AddTranslation(object->class_name,
-                        {0, (now.position - object->position()).squaredNorm()});
-  const bool rotation =
-      now.rotation.has_value() && object->type == SymmetryType::kAsymmetric;
-  if (rotation) {
-    const double angle = now.rotation->angularDistance(object->Rotation(-1));
-    noise_.AddRotation(object->class_name, {0, angle * angle});
-  }
-  auto keyframe_after = [](int k, const internal::Placement& p) {
-    return k < p.keyframe;
-  };
-  for (int bin = 0; bin < internal::kLagBins; ++bin) {
-    // The latest earlier placement at least 2^bin keyframes back, if its
-    // lag falls in this bin.
-    const auto after = std::upper_bound(object->placements.begin(),
-                                        object->placements.end(),
-                                        now.keyframe - (1 << bin),
-                                        keyframe_after);
-    if (after == object->placements.begin()) break;
-    const internal::Placement& then = *std::prev(after);
-    const int lag = now.keyframe - then.keyframe;
-    if (internal::LagBinIndex(lag) != bin) continue;
-    noise_.AddTranslation(object->class_name,
-                          {lag, (now.position - then.position).squaredNorm()});
-    if (rotation && then.rotation) {
-      const double angle = now.rotation->angularDistance(*then.rotation);
-      noise_.AddRotation(object->class_name, {lag, angle * angle});
+  Eigen::Quaterniond R = (T_wc.q * *R_co).normalized();
+  if (object.chain_rotation_count > 0) {
+    const Eigen::Quaterniond mean(
+        Eigen::Vector4d(object.chain_rotation_sum.normalized()));
+    if (sample) {
+      noise_.AddRotation(
+          object.class_name, Kind::kLevel, mean.angularDistance(R));
+      if (consecutive && object.chain_last_rotation) {
+        noise_.AddRotation(object.class_name,
+                           Kind::kIncrement,
+                           object.chain_last_rotation->angularDistance(R));
+      }
     }
+    // The sum averages quaternions of one sign.
+    if (mean.coeffs().dot(R.coeffs()) < 0.0) R.coeffs() = -R.coeffs();
   }
+  object.chain_rotation_sum += R.coeffs();
+  ++object.chain_rotation_count;
+  object.chain_last_rotation = R;
 }
 
 // ---------------------------------------------------------------------------
@@ -508,30 +426,18 @@ std::unique_ptr<ceres::CostFunction> Backend::Impl::BuildObjectEdge(
     ObjectState* object,
     const ObjectObservation& observation,
     std::vector<double*>* blocks) const {
-  // The components with the effective noise (detection_noise.h,
-  // EffectiveSigma). While the noise is being learned a claim is not
-  // trusted below the default: an overconfident detector would otherwise
-  // take the cameras before the data can contradict it.
+  // The components with the effective noise, where the class has an
+  // estimate (detection_noise.h); as the detection gave them otherwise.
   std::vector<PoseComponent> components = observation.components;
   const auto noise = applied_noise_.find(object->class_name);
-  const internal::ClassNoise estimate =
-      noise == applied_noise_.end() ? internal::ClassNoise{} : noise->second;
-  double sigma_t = observation.sigma_t;
-  double sigma_r = observation.sigma_r;
-  if (noise_bootstrap_) {
-    sigma_t = std::max(sigma_t, options_.hypothesis_sigma_t);
-    sigma_r = std::max(sigma_r, options_.hypothesis_sigma_r);
+  if (noise != applied_noise_.end()) {
+    const Matrix6d sqrt_info = IsotropicPoseSqrtInfo(
+        internal::EffectiveSigma(
+            observation.sigma_t, observation.claimed_t, noise->second.sigma_t),
+        internal::EffectiveSigma(
+            observation.sigma_r, observation.claimed_r, noise->second.sigma_r));
+    for (PoseComponent& c : components) c.sqrt_info = sqrt_info;
   }
-  const Matrix6d sqrt_info = IsotropicPoseSqrtInfo(
-      internal::EffectiveSigma(sigma_t,
-                               observation.claimed_t,
-                               estimate.sigma_t,
-                               options_.noise_contradiction_ratio),
-      internal::EffectiveSigma(sigma_r,
-                               observation.claimed_r,
-                               estimate.sigma_r,
-                               options_.noise_contradiction_ratio));
-  for (PoseComponent& c : components) c.sqrt_info = sqrt_info;
   if (object->type == SymmetryType::kAsymmetric) {
     std::unique_ptr<AsymmetricObjectEdge> edge;
     Status status =

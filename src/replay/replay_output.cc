@@ -1,8 +1,5 @@
 #include "symba/replay/replay_output.h"
 
-#include <optional>
-#include <string_view>
-
 #include "io/json_writer.h"
 
 namespace symba {
@@ -18,53 +15,6 @@ std::string QuoteCsv(const std::string& field) {
     quoted += c;
   }
   return quoted + "\"";
-}
-
-void OptionalMember(std::string_view key,
-                    const std::optional<double>& value,
-                    JsonWriter* json) {
-  json->Key(key);
-  if (value) {
-    json->Double(*value);
-  } else {
-    json->Null();
-  }
-}
-
-void WriteFit(std::string_view key,
-              const std::optional<ClassNoiseEstimate::Fit>& fit,
-              JsonWriter* json) {
-  json->Key(key);
-  if (!fit) {
-    json->Null();
-    return;
-  }
-  json->BeginObject()
-      .Member("white", fit->white)
-      .Member("persistent", fit->persistent)
-      .Member("correlation", fit->correlation)
-      .Member("inflation", fit->inflation)
-      .EndObject();
-}
-
-// "noise": what the backend learned (docs/replay.md).
-void WriteNoise(const NoiseEstimates& noise, JsonWriter* json) {
-  json->Key("noise")
-      .BeginObject()
-      .Member("odometry_sigma_factor", noise.odometry_sigma_factor)
-      .Member("odometry_estimated", noise.odometry_estimated);
-  json->Key("classes").BeginArray();
-  for (const ClassNoiseEstimate& c : noise.classes) {
-    json->BeginObject().Member("class", c.class_name);
-    OptionalMember("sigma_t", c.sigma_t, json);
-    OptionalMember("sigma_r", c.sigma_r, json);
-    WriteFit("translation", c.translation, json);
-    WriteFit("rotation", c.rotation, json);
-    json->Member("samples_t", c.samples_t)
-        .Member("samples_r", c.samples_r)
-        .EndObject();
-  }
-  json->EndArray().EndObject();
 }
 
 }  // namespace
@@ -138,7 +88,6 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
       .Member("prior_size", result.last_solve.prior_size)
       .EndObject()
       .EndObject();
-  WriteNoise(result.noise, &json);
   json.Key("options")
       .BeginObject()
       .Member("window", b.window_size)
@@ -168,12 +117,11 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
       .Member("tentative_timeout", b.tentative_timeout)
       .Member("gate_sigmas", b.gate_sigmas)
       .Member("estimate_noise", b.estimate_noise)
-      .Member("noise_bootstrap_keyframes", b.noise_bootstrap_keyframes)
-      .Member("noise_contradiction_ratio", b.noise_contradiction_ratio)
+      .Member("uncalibrated_sigma_t", b.uncalibrated_sigma_t)
+      .Member("uncalibrated_sigma_r", b.uncalibrated_sigma_r)
       .Member("min_support", b.min_support)
       .Member("upgrade_evidence", b.upgrade_evidence)
       .Member("upgrade_min_fraction", b.upgrade_min_fraction)
-      .Member("upgrade_min_views", b.upgrade_min_views)
       .Member("max_upgrade_order", b.max_upgrade_order)
       .EndObject();
   json.EndObject();

@@ -194,17 +194,14 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                   b.estimate_noise,
                   "estimate each class's detection noise from the data")
       ->capture_default_str();
-  cmd->add_option("--noise-bootstrap-keyframes",
-                  b.noise_bootstrap_keyframes,
-                  "keyframes at most before the learned noise is applied and "
-                  "keyframes start to leave the window")
-      ->check(CLI::PositiveNumber)
+  cmd->add_option("--uncalibrated-sigma-t",
+                  b.uncalibrated_sigma_t,
+                  "with --estimate-noise: the least noise a detection without "
+                  "a sigma is weighed with (m)")
       ->capture_default_str();
-  cmd->add_option("--noise-contradiction-ratio",
-                  b.noise_contradiction_ratio,
-                  "a detection's own sigma is used unless the estimate "
-                  "exceeds it by this factor")
-      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
+  cmd->add_option("--uncalibrated-sigma-r",
+                  b.uncalibrated_sigma_r,
+                  "the same for rotation (rad)")
       ->capture_default_str();
   cmd->add_option("--min-support",
                   b.min_support,
@@ -220,11 +217,6 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                   b.upgrade_min_fraction,
                   "symba: the agreeing flips' least share of the keyframes "
                   "that detected the object")
-      ->capture_default_str();
-  cmd->add_option("--upgrade-min-views",
-                  b.upgrade_min_views,
-                  "symba: the share counts over at least this many keyframes")
-      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_option("--max-upgrade-order",
                   b.max_upgrade_order,

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <memory>
 #include <optional>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -30,208 +29,63 @@ Eigen::Quaterniond Rot(const Eigen::Vector3d& axis, double angle) {
 // ---------------------------------------------------------------------------
 // Detection noise.
 
-TEST(LagBinIndex, BinsLagsByPowersOfTwo) {
-  EXPECT_EQ(LagBinIndex(0), -1);
-  EXPECT_EQ(LagBinIndex(1), 0);
-  EXPECT_EQ(LagBinIndex(2), 1);
-  EXPECT_EQ(LagBinIndex(3), 1);
-  EXPECT_EQ(LagBinIndex(4), 2);
-  EXPECT_EQ(LagBinIndex(255), 7);
-  EXPECT_EQ(LagBinIndex(256), 8);
-  EXPECT_EQ(LagBinIndex(511), 8);
-  EXPECT_EQ(LagBinIndex(512), -1);
+TEST(RobustScale, IsTheMedianOverTheChi3Median) {
+  RobustScale scale(10);
+  for (double v : {0.5, 0.1, 0.3, 9.0, 0.2}) scale.Add(v);
+  // Sorted 0.1 0.2 0.3 0.5 9.0: median 0.3, the outlier does not count.
+  EXPECT_DOUBLE_EQ(scale.Sigma(), 0.3 / kChi3Median);
+  scale.Add(0.4);
+  // 0.1 0.2 0.3 0.4 0.5 9.0: median (0.3 + 0.4) / 2.
+  EXPECT_DOUBLE_EQ(scale.Sigma(), 0.35 / kChi3Median);
 }
 
-TEST(LagBin, IsTheMedianOverTheChiSquareMedianAndKeepsTheLastWindow) {
-  LagBin bin(3);
-  for (double v : {1.0, 1.0, 1.0, 5.0, 9.0, 6.0}) bin.Add({2, v});
-  const LagBinSummary summary = bin.Summary();
-  EXPECT_EQ(summary.count, 3);
-  // The last three: 5, 9, 6; median 6; the 9 does not move it.
-  EXPECT_DOUBLE_EQ(summary.variance, 6.0 / kChiSquare3Median);
-  EXPECT_DOUBLE_EQ(summary.lag, 2.0);
+TEST(RobustScale, KeepsOnlyTheLastWindowValues) {
+  RobustScale scale(3);
+  for (double v : {1.0, 1.0, 1.0, 5.0, 6.0, 7.0}) scale.Add(v);
+  EXPECT_EQ(scale.size(), 3);
+  EXPECT_DOUBLE_EQ(scale.Sigma(), 6.0 / kChi3Median);
 }
 
-// The level and lag bins of the exact model: level w + b, lag L
-// 2 w + 2 b (1 - rho^L).
-std::vector<LagBinSummary> ExactBins(double w, double b, double rho) {
-  std::vector<LagBinSummary> bins = {{0.0, w + b, kMinBinSamples}};
-  for (int i = 0; i < kLagBins; ++i) {
-    const double lag = 1 << i;
-    bins.push_back(
-        {lag, 2 * w + 2 * b * (1 - std::pow(rho, lag)), kMinBinSamples});
+TEST(CorrelatedSigma, InflatesCorrelatedErrorsByTheirEffectiveCount) {
+  // Independent errors: increments have the level's sigma, rho = 0.
+  EXPECT_DOUBLE_EQ(CorrelatedSigma(0.1, 0.1), 0.1);
+  // sigma_I = sigma_L / 2: rho = 1 - 1/4 = 0.75, factor sqrt(1.75 / 0.25).
+  EXPECT_DOUBLE_EQ(CorrelatedSigma(0.1, 0.05), 0.1 * std::sqrt(7.0));
+  // Larger increments than levels: rho clamps at 0.
+  EXPECT_DOUBLE_EQ(CorrelatedSigma(0.1, 0.2), 0.1);
+  // No increment: rho clamps at 0.98, factor sqrt(1.98 / 0.02) = sqrt(99).
+  EXPECT_DOUBLE_EQ(CorrelatedSigma(0.1, 0.0), 0.1 * std::sqrt(99.0));
+}
+
+TEST(DetectionNoiseEstimator, EstimatesPerClassOnceThereAreEnoughSamples) {
+  using Kind = DetectionNoiseEstimator::Kind;
+  DetectionNoiseEstimator noise(100, 3);
+  noise.AddTranslation("box", Kind::kLevel, 0.2);
+  noise.AddTranslation("box", Kind::kLevel, 0.2);
+  EXPECT_FALSE(noise.Estimate("box").sigma_t.has_value());
+  noise.AddTranslation("box", Kind::kLevel, 0.2);
+  // Levels only: sigma_L.
+  ASSERT_TRUE(noise.Estimate("box").sigma_t.has_value());
+  EXPECT_DOUBLE_EQ(*noise.Estimate("box").sigma_t, 0.2 / kChi3Median);
+  EXPECT_FALSE(noise.Estimate("box").sigma_r.has_value());
+  EXPECT_FALSE(noise.Estimate("can").sigma_t.has_value());
+  // Increments of 0.2 sqrt(2) / 2: sigma_I = sigma_L / 2 (rho = 0.75).
+  for (int i = 0; i < 3; ++i) {
+    noise.AddTranslation("box", Kind::kIncrement, 0.1 * std::sqrt(2.0));
   }
-  return bins;
+  EXPECT_NEAR(*noise.Estimate("box").sigma_t,
+              0.2 / kChi3Median * std::sqrt(7.0),
+              1e-12);
+  // Never below the floor.
+  for (int i = 0; i < 3; ++i) noise.AddRotation("can", Kind::kLevel, 0.0);
+  EXPECT_DOUBLE_EQ(*noise.Estimate("can").sigma_r, kMinSigmaR);
 }
 
-TEST(FitVariogram, TellsWhiteNoiseFromPersistence) {
-  // White noise only.
-  std::optional<VariogramFit> fit = FitVariogram(ExactBins(1e-4, 0, 0));
-  ASSERT_TRUE(fit);
-  EXPECT_NEAR(fit->white, 1e-4, 1e-10);
-  EXPECT_NEAR(fit->persistent, 0.0, 1e-10);
-  EXPECT_NEAR(fit->EffectiveVariance(), 1e-4, 1e-10);
-  // A persistent error of 5 cm (rho 0.95, on the grid) over 5 mm of white
-  // noise.
-  fit = FitVariogram(ExactBins(2.5e-5, 2.5e-3, 0.95));
-  ASSERT_TRUE(fit);
-  EXPECT_NEAR(fit->white, 2.5e-5, 1e-9);
-  EXPECT_NEAR(fit->persistent, 2.5e-3, 1e-8);
-  EXPECT_DOUBLE_EQ(fit->rho, 0.95);
-  // Each detection informs like (1 - rho) / (1 + rho) independent ones.
-  EXPECT_NEAR(fit->EffectiveVariance(), 2.5e-5 + 2.5e-3 * 39.0, 1e-7);
-  EXPECT_NEAR(fit->Inflation(), std::sqrt(39.0), 1e-12);
-  EXPECT_NEAR(fit->ScatterVariance(), 2.525e-3, 1e-8);
-}
-
-TEST(FitVariogram, NeedsTheLevelAndALagBinWithEnoughSamples) {
-  std::vector<LagBinSummary> bins = ExactBins(1e-4, 0, 0);
-  for (LagBinSummary& bin : bins) bin.count = kMinBinSamples - 1;
-  EXPECT_FALSE(FitVariogram(bins));
-  bins[1].count = kMinBinSamples;  // lag 1 without the level
-  bins[2].count = kMinBinSamples;
-  EXPECT_FALSE(FitVariogram(bins));
-  bins[0].count = kMinBinSamples;  // the level
-  EXPECT_TRUE(FitVariogram(bins));
-}
-
-// Samples of a detector's error e_k = white + AR(1) along a track of
-// `count` keyframes: the level |e_k|^2 and every lag 2^i back.
-void AddTrack(DetectionNoiseEstimator* noise,
-              const std::string& class_name,
-              double white,
-              double persistent,
-              double rho,
-              int count,
-              unsigned seed) {
-  std::mt19937 random(seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  auto gaussian = [&](double sigma) {
-    Eigen::Vector3d v;
-    for (int i = 0; i < 3; ++i) v[i] = sigma * normal(random);
-    return v;
-  };
-  const double innovation = persistent * std::sqrt(1 - rho * rho);
-  Eigen::Vector3d ar = gaussian(persistent);
-  std::vector<Eigen::Vector3d> errors;
-  for (int k = 0; k < count; ++k) {
-    ar = rho * ar + gaussian(innovation);
-    errors.push_back(ar + gaussian(white));
-    noise->AddTranslation(class_name, {0, errors[k].squaredNorm()});
-    for (int bin = 0; bin < kLagBins && (1 << bin) <= k; ++bin) {
-      const int lag = 1 << bin;
-      noise->AddTranslation(class_name,
-                            {lag, (errors[k] - errors[k - lag]).squaredNorm()});
-    }
-  }
-}
-
-TEST(DetectionNoiseEstimator, EstimatesAKnownWhiteNoiseWithin15Percent) {
-  DetectionNoiseEstimator noise(500, 20);
-  AddTrack(&noise, "chair", 0.03, 0.0, 0.0, 2000, 7);  // 3 cm per axis
-  noise.Update("chair");
-  const ClassNoise estimate = noise.Estimate("chair");
-  ASSERT_TRUE(estimate.sigma_t);
-  EXPECT_NEAR(*estimate.sigma_t, 0.03, 0.15 * 0.03);
-  EXPECT_NEAR(*estimate.scatter_t, 0.03, 0.15 * 0.03);
-  EXPECT_EQ(estimate.samples_t, 2000);
-  EXPECT_FALSE(estimate.sigma_r);
-  EXPECT_FALSE(noise.Estimate("table").sigma_t);
-  EXPECT_EQ(noise.Classes(), std::vector<std::string>{"chair"});
-}
-
-TEST(DetectionNoiseEstimator, GetsAKnownAR1ErrorsInflation) {
-  // 5 mm white, 5 cm persistent with rho 0.9 per keyframe.
-  DetectionNoiseEstimator noise(500, 20);
-  AddTrack(&noise, "box", 0.005, 0.05, 0.9, 3000, 11);
-  noise.Update("box");
-  const ClassNoise estimate = noise.Estimate("box");
-  ASSERT_TRUE(estimate.translation);
-  EXPECT_NEAR(estimate.translation->rho, 0.9, 0.05);
-  // sigma^2 = w + b (1 + rho) / (1 - rho) = 0.005^2 + 0.05^2 19: 0.218 m.
-  const double expected = std::sqrt(0.005 * 0.005 + 0.05 * 0.05 * 19.0);
-  EXPECT_NEAR(*estimate.sigma_t, expected, 0.2 * expected);
-  EXPECT_NEAR(*estimate.scatter_t, 0.05, 0.15 * 0.05);
-}
-
-TEST(DetectionNoiseEstimator, WaitsForEnoughLevelsAndNeverGoesBelowTheFloor) {
-  DetectionNoiseEstimator noise(500, 20);
-  for (int i = 0; i < 19; ++i) {
-    noise.AddTranslation("box", {0, 0.0});
-    noise.AddTranslation("box", {1, 0.0});
-  }
-  noise.Update("box");
-  EXPECT_FALSE(noise.Estimate("box").sigma_t);
-  noise.AddTranslation("box", {0, 0.0});
-  noise.Update("box");
-  // A detector that agrees with the map to the last bit.
-  ASSERT_TRUE(noise.Estimate("box").sigma_t);
-  EXPECT_DOUBLE_EQ(*noise.Estimate("box").sigma_t, kMinSigmaT);
-  // Lags past the last bin are not kept.
-  noise.AddRotation("box", {512, 1.0});
-  noise.Update("box");
-  EXPECT_FALSE(noise.Estimate("box").sigma_r);
-}
-
-// `count` whitened odometry residuals: N(0, scale) per value plus `drift`
-// on the first value of every one.
-OdometryNoiseEstimator OdometryOf(double scale, double drift, int count) {
-  OdometryNoiseEstimator odometry(500, 20);
-  std::mt19937 random(5);
-  std::normal_distribution<double> normal(0.0, std::sqrt(scale));
-  for (int i = 0; i < count; ++i) {
-    Eigen::Matrix<double, 6, 1> r;
-    for (int j = 0; j < 6; ++j) r[j] = normal(random);
-    r[0] += drift;
-    odometry.Add(r, true);
-  }
-  odometry.Update();
-  return odometry;
-}
-
-TEST(OdometryNoiseEstimator, FindsTheFactorOnTheStatedVariance) {
-  // As stated: s near 1 at every run length (the largest of seven
-  // estimates, each within a few percent).
-  OdometryNoiseEstimator odometry = OdometryOf(1.0, 0.0, 500);
-  ASSERT_TRUE(odometry.Scale());
-  EXPECT_NEAR(*odometry.Scale(), 1.0, 0.3);
-  EXPECT_EQ(odometry.samples(), 500);
-  // Four times the stated variance.
-  odometry = OdometryOf(4.0, 0.0, 500);
-  EXPECT_NEAR(*odometry.Scale(), 4.0, 1.2);
-  // A front end far better than it says: the factor's floor.
-  odometry = OdometryOf(1e-6, 0.0, 500);
-  EXPECT_DOUBLE_EQ(*odometry.Scale(), kMinOdometryScale);
-  // A drift of half a sigma per step: small per step, but 64 steps add up
-  // to 32 sigma: s about (32^2 + 64 5.35) / (64 5.35) = 4.
-  odometry = OdometryOf(1.0, 0.5, 500);
-  EXPECT_GT(*odometry.Scale(), 3.0);
-  // Too few residuals for any run length.
-  EXPECT_FALSE(OdometryOf(1.0, 0.0, 19).Scale());
-}
-
-TEST(OdometryNoiseEstimator, RunsDoNotCrossARestart) {
-  OdometryNoiseEstimator odometry(500, 20);
-  Eigen::Matrix<double, 6, 1> drift = Eigen::Matrix<double, 6, 1>::Zero();
-  drift[0] = 1.0;
-  // 40 runs of two steps: sums of one and two steps only (each 2 sigma
-  // at most); no longer run exists.
-  for (int i = 0; i < 80; ++i) odometry.Add(drift, i % 2 == 1);
-  odometry.Update();
-  ASSERT_TRUE(odometry.Scale());
-  // Single steps |r|^2 = 1, pairs 4 / 2 = 2: s = 2 / median chi-square(6).
-  EXPECT_NEAR(*odometry.Scale(), 2.0 / kChiSquare6Median, 1e-12);
-}
-
-TEST(EffectiveSigma, ClaimsAreAPriorThatContradictingDataOverrule) {
-  // A claim stands while the estimate is within the ratio of it.
-  EXPECT_DOUBLE_EQ(EffectiveSigma(0.03, true, 0.05, 3.0), 0.03);
-  EXPECT_DOUBLE_EQ(EffectiveSigma(0.03, true, std::nullopt, 3.0), 0.03);
-  // A detector that claims 1 cm and is off by 10 cm.
-  EXPECT_DOUBLE_EQ(EffectiveSigma(0.01, true, 0.1, 3.0), 0.1);
-  // Without a claim: the estimate, and the initial noise before one.
-  EXPECT_DOUBLE_EQ(EffectiveSigma(2.0, false, 0.05, 3.0), 0.05);
-  EXPECT_DOUBLE_EQ(EffectiveSigma(2.0, false, std::nullopt, 3.0), 2.0);
+TEST(EffectiveSigma, ClaimsWinThenTheLargerOfFloorAndEstimate) {
+  EXPECT_DOUBLE_EQ(EffectiveSigma(0.03, true, 0.5), 0.03);  // the claim
+  EXPECT_DOUBLE_EQ(EffectiveSigma(2.0, false, 0.5), 2.0);   // the floor
+  EXPECT_DOUBLE_EQ(EffectiveSigma(2.0, false, 3.0), 3.0);   // the estimate
+  EXPECT_DOUBLE_EQ(EffectiveSigma(2.0, false, std::nullopt), 2.0);
 }
 
 // ---------------------------------------------------------------------------

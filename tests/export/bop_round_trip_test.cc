@@ -10,7 +10,7 @@
 // these removed (its camera poses, detections, weights and class priors
 // kept; the simulation writes its true class priors, which the importer
 // reads back from models_info.json). Twice: as the importer assumes (no
-// sigma: the backend learns their noise from the run), and with the
+// sigma: the backend weighs the detections as uncalibrated), and with the
 // simulator's true sigmas given to the importer (--detection-sigma-t/-r)
 // and kept in the reference. The simulator's full log is replayed too and
 // printed, for docs/import.md.

@@ -121,9 +121,6 @@ class Backend {
   std::vector<MapObjectEstimate> Objects() const;
   const std::vector<DetectionAssignment>& Assignments() const;
   BackendStatistics Statistics() const;
-  // Each class's detection noise and the odometry weight as learned so far
-  // (empty classes without estimate_noise).
-  NoiseEstimates Noise() const;
   const BackendOptions& options() const;
 
  private:

@@ -96,8 +96,7 @@ struct BackendOptions {
   int batch_max_iterations = 50;
   int num_threads = 1;
 
-  // Default hypothesis noise when a detection gives none (m, rad); with
-  // estimate_noise, until its class's noise is known.
+  // Default hypothesis noise when a detection gives none (m, rad).
   double hypothesis_sigma_t = 0.05;
   double hypothesis_sigma_r = 0.1;
   // The continuous edge's axis weight (paper Eq. 5) and axis noise (rad).
@@ -152,29 +151,23 @@ struct BackendOptions {
   // takes a detection only within gate_sigmas * sigma_t * sqrt(1 + 1/n)
   // (and gate_position). 0: gate_position only.
   double gate_sigmas = 5.0;
-  // Learn each class's detection noise and the front end's odometry weight
-  // from the run (docs/backend.md "Detection noise learned from the run"):
-  // when a keyframe leaves the window its detections, placed with its final
-  // pose, give their distance to their object (the level) and to the
-  // object's earlier placements 1 to 511 keyframes back (the lags), which
-  // tell the detector's white noise, its persistent error and that error's
-  // correlation; its odometry step's residual, summed over runs of steps,
-  // tells the factor between the odometry's real and stated variance. The
-  // last noise_window samples per bin count; an estimate needs
-  // noise_min_samples levels (or residuals). A class's edges are rebuilt
-  // when its noise moves by more than the factor noise_update_ratio.
+  // Estimate each class's detection noise from the object edges' residuals
+  // (robust median of the last noise_window samples, used from
+  // noise_min_samples on) and build its edges with it; a class's edges are
+  // rebuilt when its estimate moves by more than the factor
+  // noise_update_ratio. A detection's own sigma is a lower bound.
   bool estimate_noise = true;
   int noise_window = 500;
   int noise_min_samples = 20;
   double noise_update_ratio = 1.25;
-  // Until the odometry factor and one class's noise are known, or for at
-  // most this many keyframes, no keyframe leaves the window (every one is
-  // solved); then every factor is rebuilt with what was learned (the
-  // bootstrap, docs/backend.md).
-  int noise_bootstrap_keyframes = 100;
-  // A detection's own sigma_t/sigma_r is a prior: it is used unless the
-  // estimate exceeds it by more than this factor (the data contradict it).
-  double noise_contradiction_ratio = 3.0;
+  // With estimate_noise, a detection that gives no sigma is weighed with
+  // max(estimate, uncalibrated_sigma) instead of hypothesis_sigma: errors
+  // that persist over many frames (a bias) cannot be told from camera
+  // motion until the object was seen from elsewhere, so an uncalibrated
+  // detector must not steer the camera (docs/backend.md "Real detectors"
+  // has the measurements behind these values).
+  double uncalibrated_sigma_t = 2.0;  // m
+  double uncalibrated_sigma_r = 3.0;  // rad
   // A confirmed object that was in view (in front of the camera, within
   // the widest bearing and depth any detection had) in min_support_views
   // keyframes, but detected in fewer than min_support of them, is dropped:
@@ -189,11 +182,8 @@ struct BackendOptions {
   // keyframes that detected the object: a symmetric object seen by a
   // single-pose detector flips in about half of them (1 - 1/K), a textured
   // box that a detector now and then turns by 90 degrees in a few percent.
-  // The share is taken over at least upgrade_min_views keyframes (a
-  // detector's confusion often comes in a run of views from one side).
   int upgrade_evidence = 3;
   double upgrade_min_fraction = 0.3;
-  int upgrade_min_views = 20;
   int max_upgrade_order = 4;
   double upgrade_angle_tolerance = 10.0 * kPi / 180.0;  // rad
 

@@ -55,40 +55,6 @@ struct DetectionAssignment {
   SymmetryType symmetry = SymmetryType::kAsymmetric;  // as categorised
 };
 
-// What the backend learned of one class's detection noise from the run
-// (docs/backend.md "Detection noise learned from the run"). Sigmas are per
-// axis; the rotation part comes from asymmetric objects only.
-struct ClassNoiseEstimate {
-  std::string class_name;
-  // The sigmas a detection of the class is weighed with when it gives none
-  // of its own (or when the data contradict its own); nullopt until the
-  // class has an estimate.
-  std::optional<double> sigma_t;  // m
-  std::optional<double> sigma_r;  // rad
-  // The fit behind each: the white (frame-to-frame) sigma, the persistent
-  // sigma, the correlation of consecutive persistent errors and the factor
-  // sqrt((1 + rho) / (1 - rho)) their persistence inflates them by.
-  struct Fit {
-    double white = 0.0;
-    double persistent = 0.0;
-    double correlation = 0.0;
-    double inflation = 1.0;
-  };
-  std::optional<Fit> translation;  // m
-  std::optional<Fit> rotation;     // rad
-  int samples_t = 0;  // pairs of detections behind the translation part
-  int samples_r = 0;  // ... and behind the rotation part
-};
-
-// The noise the backend believed at the end of what it has seen.
-struct NoiseEstimates {
-  std::vector<ClassNoiseEstimate> classes;  // sorted by class name
-  // The factor the front end's stated odometry sigmas are multiplied with
-  // (1 before an estimate, and without estimate_noise).
-  double odometry_sigma_factor = 1.0;
-  bool odometry_estimated = false;
-};
-
 }  // namespace symba
 
 #endif  // SYMBA_BACKEND_ESTIMATES_H_

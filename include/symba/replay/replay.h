@@ -37,7 +37,6 @@ struct ReplayResult {
   std::vector<MapObjectEstimate> objects;
   std::vector<DetectionAssignment> assignments;
   BackendStatistics statistics;
-  NoiseEstimates noise;    // what the backend learned of the noise
   SolveReport last_solve;  // the final window or the batch solve
   double seconds = 0.0;    // wall time of the whole replay
 };

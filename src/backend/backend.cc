@@ -55,6 +55,45 @@ Backend::Impl::Impl(const BackendOptions& options,
   marginalization_.rival_distance = options.marginalize_rival_distance;
 }
 
+namespace {
+
+ClassNoiseEstimate::Samples PublicSamples(
+    const internal::NoiseSamplesReport& report) {
+  return {report.levels,
+          report.increments,
+          report.sigma_level,
+          report.sigma_increment,
+          report.correlation,
+          report.inflation};
+}
+
+}  // namespace
+
+std::vector<ClassNoiseEstimate> Backend::Impl::Noise() const {
+  std::vector<ClassNoiseEstimate> classes;
+  for (const std::string& name : noise_.Classes()) {
+    const internal::ClassNoise estimate = noise_.Estimate(name);
+    ClassNoiseEstimate c;
+    c.class_name = name;
+    c.sigma_t = estimate.sigma_t;
+    c.sigma_r = estimate.sigma_r;
+    // As BuildObjectEdge weighs a detection without a sigma: the applied
+    // estimate against the floor.
+    const auto applied = applied_noise_.find(name);
+    const internal::ClassNoise used = applied == applied_noise_.end()
+                                          ? internal::ClassNoise{}
+                                          : applied->second;
+    c.weight_sigma_t = internal::EffectiveSigma(
+        options_.uncalibrated_sigma_t, false, used.sigma_t);
+    c.weight_sigma_r = internal::EffectiveSigma(
+        options_.uncalibrated_sigma_r, false, used.sigma_r);
+    c.translation = PublicSamples(noise_.TranslationReport(name));
+    c.rotation = PublicSamples(noise_.RotationReport(name));
+    classes.push_back(std::move(c));
+  }
+  return classes;
+}
+
 int Backend::Impl::WindowStart() const {
   return std::max(0,
                   static_cast<int>(keyframes_.size()) - options_.window_size);
@@ -449,6 +488,10 @@ const std::vector<DetectionAssignment>& Backend::Assignments() const {
 }
 
 BackendStatistics Backend::Statistics() const { return impl_->statistics_; }
+
+std::vector<ClassNoiseEstimate> Backend::Noise() const {
+  return impl_->Noise();
+}
 
 const BackendOptions& Backend::options() const { return impl_->options_; }
 

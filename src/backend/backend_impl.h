@@ -52,6 +52,7 @@ class Backend::Impl {
   std::vector<MapObjectEstimate> Objects() const;
   std::optional<KeyframeEstimate> Keyframe(KeyframeId id) const;
   std::optional<MapObjectEstimate> Object(ObjectId id) const;
+  std::vector<ClassNoiseEstimate> Noise() const;
 
   const BackendOptions options_;
   std::vector<DetectionAssignment> assignments_;

@@ -26,10 +26,15 @@ double RobustScale::Sigma() const {
   return median / kChi3Median;
 }
 
-double CorrelatedSigma(double sigma_level, double sigma_increment) {
+double IncrementCorrelation(double sigma_level, double sigma_increment) {
   if (!(sigma_level > 0.0)) return 0.0;
   const double ratio = sigma_increment / sigma_level;
-  const double rho = std::clamp(1.0 - ratio * ratio, 0.0, kMaxCorrelation);
+  return std::clamp(1.0 - ratio * ratio, 0.0, kMaxCorrelation);
+}
+
+double CorrelatedSigma(double sigma_level, double sigma_increment) {
+  if (!(sigma_level > 0.0)) return 0.0;
+  const double rho = IncrementCorrelation(sigma_level, sigma_increment);
   return sigma_level * std::sqrt((1.0 + rho) / (1.0 - rho));
 }
 
@@ -58,6 +63,50 @@ std::optional<double> DetectionNoiseEstimator::Sigma(
   if (it->second.increment.size() < min_samples_) return level;
   // Increments are differences of two errors: sqrt(2) sigma each.
   return CorrelatedSigma(level, it->second.increment.Sigma() / std::sqrt(2.0));
+}
+
+NoiseSamplesReport DetectionNoiseEstimator::Report(
+    const std::map<std::string, Scales>& scales,
+    const std::string& class_name) const {
+  NoiseSamplesReport report;
+  const auto it = scales.find(class_name);
+  if (it == scales.end()) return report;
+  report.levels = it->second.level.size();
+  report.increments = it->second.increment.size();
+  if (report.levels >= min_samples_) {
+    report.sigma_level = it->second.level.Sigma();
+  }
+  if (report.increments >= min_samples_) {
+    // Increments are differences of two errors: sqrt(2) sigma each.
+    report.sigma_increment = it->second.increment.Sigma() / std::sqrt(2.0);
+  }
+  if (report.sigma_level && report.sigma_increment) {
+    report.correlation =
+        IncrementCorrelation(*report.sigma_level, *report.sigma_increment);
+    report.inflation =
+        std::sqrt((1.0 + report.correlation) / (1.0 - report.correlation));
+  }
+  return report;
+}
+
+NoiseSamplesReport DetectionNoiseEstimator::TranslationReport(
+    const std::string& class_name) const {
+  return Report(translation_, class_name);
+}
+
+NoiseSamplesReport DetectionNoiseEstimator::RotationReport(
+    const std::string& class_name) const {
+  return Report(rotation_, class_name);
+}
+
+std::vector<std::string> DetectionNoiseEstimator::Classes() const {
+  std::vector<std::string> names;
+  for (const auto& [name, scales] : translation_) names.push_back(name);
+  for (const auto& [name, scales] : rotation_) {
+    if (translation_.count(name) == 0) names.push_back(name);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
 }
 
 ClassNoise DetectionNoiseEstimator::Estimate(

@@ -63,6 +63,9 @@ class RobustScale {
   mutable std::vector<double> scratch_;
 };
 
+// rho = 1 - sigma_I^2 / sigma_L^2, clamped to [0, kMaxCorrelation] (0 for
+// a zero sigma_L).
+double IncrementCorrelation(double sigma_level, double sigma_increment);
 // sigma_L sqrt((1 + rho) / (1 - rho)) from a scale of levels and one of
 // increments (see above).
 double CorrelatedSigma(double sigma_level, double sigma_increment);
@@ -70,6 +73,18 @@ double CorrelatedSigma(double sigma_level, double sigma_increment);
 struct ClassNoise {
   std::optional<double> sigma_t;  // m
   std::optional<double> sigma_r;  // rad
+};
+
+// What one kind of sample (translation or rotation) of a class says: the
+// counts, sigma_L and sigma_I where there are min_samples of each, and the
+// correlation rho and the factor sqrt((1 + rho) / (1 - rho)) they give.
+struct NoiseSamplesReport {
+  int levels = 0;
+  int increments = 0;
+  std::optional<double> sigma_level;
+  std::optional<double> sigma_increment;
+  double correlation = 0.0;
+  double inflation = 1.0;
 };
 
 class DetectionNoiseEstimator {
@@ -82,6 +97,11 @@ class DetectionNoiseEstimator {
   void AddRotation(const std::string& class_name, Kind kind, double error);
   // Each sigma once it has min_samples levels.
   ClassNoise Estimate(const std::string& class_name) const;
+  // The samples behind Estimate, for the report.
+  NoiseSamplesReport TranslationReport(const std::string& class_name) const;
+  NoiseSamplesReport RotationReport(const std::string& class_name) const;
+  // The classes with samples, sorted.
+  std::vector<std::string> Classes() const;
 
  private:
   struct Scales {
@@ -91,6 +111,8 @@ class DetectionNoiseEstimator {
   };
   std::optional<double> Sigma(const std::map<std::string, Scales>& scales,
                               const std::string& class_name) const;
+  NoiseSamplesReport Report(const std::map<std::string, Scales>& scales,
+                            const std::string& class_name) const;
 
   int window_;
   int min_samples_;

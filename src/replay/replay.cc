@@ -72,6 +72,7 @@ Status ReplayLog(const std::string& log_path,
     if (in_map.count(a.object) == 0) a.object = -1;
   }
   replay.statistics = backend->Statistics();
+  replay.noise = backend->Noise();
   replay.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();

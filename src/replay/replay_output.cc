@@ -1,5 +1,9 @@
 #include "symba/replay/replay_output.h"
 
+#include <optional>
+#include <string_view>
+#include <vector>
+
 #include "io/json_writer.h"
 
 namespace symba {
@@ -15,6 +19,48 @@ std::string QuoteCsv(const std::string& field) {
     quoted += c;
   }
   return quoted + "\"";
+}
+
+void OptionalMember(std::string_view key,
+                    const std::optional<double>& value,
+                    JsonWriter* json) {
+  json->Key(key);
+  if (value) {
+    json->Double(*value);
+  } else {
+    json->Null();
+  }
+}
+
+void WriteSamples(std::string_view key,
+                  const ClassNoiseEstimate::Samples& samples,
+                  JsonWriter* json) {
+  json->Key(key).BeginObject();
+  json->Member("levels", samples.levels)
+      .Member("increments", samples.increments);
+  OptionalMember("sigma_level", samples.sigma_level, json);
+  OptionalMember("sigma_increment", samples.sigma_increment, json);
+  json->Member("correlation", samples.correlation)
+      .Member("inflation", samples.inflation)
+      .EndObject();
+}
+
+// "noise": per class, what the backend estimated and weighs with
+// (docs/replay.md).
+void WriteNoise(const std::vector<ClassNoiseEstimate>& noise,
+                JsonWriter* json) {
+  json->Key("noise").BeginArray();
+  for (const ClassNoiseEstimate& c : noise) {
+    json->BeginObject().Member("class", c.class_name);
+    OptionalMember("sigma_t", c.sigma_t, json);
+    OptionalMember("sigma_r", c.sigma_r, json);
+    json->Member("weight_sigma_t", c.weight_sigma_t)
+        .Member("weight_sigma_r", c.weight_sigma_r);
+    WriteSamples("translation", c.translation, json);
+    WriteSamples("rotation", c.rotation, json);
+    json->EndObject();
+  }
+  json->EndArray();
 }
 
 }  // namespace
@@ -88,6 +134,7 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
       .Member("prior_size", result.last_solve.prior_size)
       .EndObject()
       .EndObject();
+  WriteNoise(result.noise, &json);
   json.Key("options")
       .BeginObject()
       .Member("window", b.window_size)

@@ -110,6 +110,24 @@ TEST_P(BackendRealData, Ycbv0001KeepsTheCameraAndOneObjectPerBox) {
   EXPECT_LT((by_class["004_sugar_box"][0].t_wo - TruePosition("004_sugar_box"))
                 .norm(),
             0.04);
+
+  // What the backend believed: both classes estimated, DOPE's errors
+  // persistent (consecutive ones correlated), and detections without a
+  // sigma weighed with at least the floor for uncalibrated detectors.
+  const std::vector<ClassNoiseEstimate> noise = backend->Noise();
+  ASSERT_EQ(noise.size(), 2u);
+  EXPECT_EQ(noise[0].class_name, "003_cracker_box");
+  EXPECT_EQ(noise[1].class_name, "004_sugar_box");
+  for (const ClassNoiseEstimate& c : noise) {
+    ASSERT_TRUE(c.sigma_t.has_value()) << c.class_name;
+    EXPECT_GT(c.translation.levels, 20) << c.class_name;
+    EXPECT_GT(c.translation.correlation, 0.2) << c.class_name;
+    EXPECT_NEAR(*c.sigma_t,
+                *c.translation.sigma_level * c.translation.inflation,
+                1e-12);
+    EXPECT_GE(c.weight_sigma_t, options.uncalibrated_sigma_t);
+    EXPECT_GE(c.weight_sigma_t, *c.sigma_t);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods,

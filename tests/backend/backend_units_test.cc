@@ -81,6 +81,39 @@ TEST(DetectionNoiseEstimator, EstimatesPerClassOnceThereAreEnoughSamples) {
   EXPECT_DOUBLE_EQ(*noise.Estimate("can").sigma_r, kMinSigmaR);
 }
 
+TEST(DetectionNoiseEstimator, ReportsTheSamplesBehindEachEstimate) {
+  using Kind = DetectionNoiseEstimator::Kind;
+  DetectionNoiseEstimator noise(100, 3);
+  EXPECT_TRUE(noise.Classes().empty());
+  for (int i = 0; i < 3; ++i) {
+    noise.AddTranslation("box", Kind::kLevel, 0.2);
+    noise.AddRotation("can", Kind::kLevel, 0.1);
+  }
+  noise.AddTranslation("box", Kind::kIncrement, 0.1 * std::sqrt(2.0));
+  EXPECT_EQ(noise.Classes(), (std::vector<std::string>{"box", "can"}));
+  NoiseSamplesReport report = noise.TranslationReport("box");
+  EXPECT_EQ(report.levels, 3);
+  EXPECT_EQ(report.increments, 1);
+  ASSERT_TRUE(report.sigma_level.has_value());
+  EXPECT_DOUBLE_EQ(*report.sigma_level, 0.2 / kChi3Median);
+  // One increment is fewer than min_samples: no sigma_I, no correlation.
+  EXPECT_FALSE(report.sigma_increment.has_value());
+  EXPECT_DOUBLE_EQ(report.correlation, 0.0);
+  EXPECT_DOUBLE_EQ(report.inflation, 1.0);
+  // sigma_I = sigma_L / 2: rho = 0.75, inflation sqrt(7), as the estimate.
+  noise.AddTranslation("box", Kind::kIncrement, 0.1 * std::sqrt(2.0));
+  noise.AddTranslation("box", Kind::kIncrement, 0.1 * std::sqrt(2.0));
+  report = noise.TranslationReport("box");
+  EXPECT_NEAR(*report.sigma_increment, 0.1 / kChi3Median, 1e-15);
+  EXPECT_NEAR(report.correlation, 0.75, 1e-12);
+  EXPECT_NEAR(report.inflation, std::sqrt(7.0), 1e-12);
+  EXPECT_NEAR(*report.sigma_level * report.inflation,
+              *noise.Estimate("box").sigma_t,
+              1e-12);
+  EXPECT_EQ(noise.RotationReport("box").levels, 0);
+  EXPECT_EQ(noise.RotationReport("can").levels, 3);
+}
+
 TEST(EffectiveSigma, ClaimsWinThenTheLargerOfFloorAndEstimate) {
   EXPECT_DOUBLE_EQ(EffectiveSigma(0.03, true, 0.5), 0.03);  // the claim
   EXPECT_DOUBLE_EQ(EffectiveSigma(2.0, false, 0.5), 2.0);   // the floor

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -172,6 +173,50 @@ TEST(ReplayOutputTest, SummaryJsonReportsTheWindowCounters) {
                              "\"window_policy\": \"marginalize\""}) {
     EXPECT_NE(json.find(member), std::string::npos) << member << "\n" << json;
   }
+}
+
+TEST(ReplayOutputTest, SummaryJsonReportsWhatTheBackendBelievedOfTheNoise) {
+  ReplayResult result;
+  ClassNoiseEstimate box;
+  box.class_name = "box";
+  box.sigma_t = 0.25;
+  box.weight_sigma_t = 2.0;
+  box.weight_sigma_r = 3.0;
+  box.translation.levels = 40;
+  box.translation.increments = 30;
+  box.translation.sigma_level = 0.125;
+  box.translation.sigma_increment = 0.0625;
+  box.translation.correlation = 0.75;
+  box.translation.inflation = 2.5;
+  result.noise = {box};
+  const std::string json =
+      FormatReplaySummaryJson("log.jsonl", ReplayOptions(), result);
+  // In order; no rotation estimate yet: null.
+  const std::vector<std::string> members = {"\"noise\": [",
+                                            "\"class\": \"box\"",
+                                            "\"sigma_t\": 0.25",
+                                            "\"sigma_r\": null",
+                                            "\"weight_sigma_t\": 2",
+                                            "\"weight_sigma_r\": 3",
+                                            "\"translation\": {",
+                                            "\"levels\": 40",
+                                            "\"increments\": 30",
+                                            "\"sigma_level\": 0.125",
+                                            "\"sigma_increment\": 0.0625",
+                                            "\"correlation\": 0.75",
+                                            "\"inflation\": 2.5",
+                                            "\"rotation\": {",
+                                            "\"levels\": 0",
+                                            "\"sigma_level\": null"};
+  size_t at = 0;
+  for (const std::string& member : members) {
+    at = json.find(member, at);
+    ASSERT_NE(at, std::string::npos) << member << "\n" << json;
+  }
+  // Without estimate_noise there is nothing to report: an empty list.
+  EXPECT_NE(FormatReplaySummaryJson("log.jsonl", ReplayOptions(), {})
+                .find("\"noise\": []"),
+            std::string::npos);
 }
 
 TEST(ReplayOutputTest, AtomicWriteCreatesTheDirectoryWithEveryFile) {

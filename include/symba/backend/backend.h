@@ -121,6 +121,10 @@ class Backend {
   std::vector<MapObjectEstimate> Objects() const;
   const std::vector<DetectionAssignment>& Assignments() const;
   BackendStatistics Statistics() const;
+  // Per class with detections, sorted by name: the detection noise
+  // estimated so far and what the class's detections without a sigma are
+  // weighed with (empty without estimate_noise).
+  std::vector<ClassNoiseEstimate> Noise() const;
   const BackendOptions& options() const;
 
  private:

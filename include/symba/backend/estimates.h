@@ -55,6 +55,35 @@ struct DetectionAssignment {
   SymmetryType symmetry = SymmetryType::kAsymmetric;  // as categorised
 };
 
+// What the backend estimated of one class's detection noise and what it
+// weighs the class's detections with (docs/backend.md "Real detectors",
+// mechanisms 3 and 4). The rotation part comes from asymmetric objects.
+struct ClassNoiseEstimate {
+  std::string class_name;
+  // The estimate, sigma_L sqrt((1 + rho) / (1 - rho)); nullopt until the
+  // class has noise_min_samples levels (or without estimate_noise).
+  std::optional<double> sigma_t;  // m
+  std::optional<double> sigma_r;  // rad
+  // What a detection of the class that gives no sigma is weighed with:
+  // the larger of the estimate its edges were last built with and
+  // uncalibrated_sigma_*.
+  double weight_sigma_t = 0.0;  // m
+  double weight_sigma_r = 0.0;  // rad
+  // The samples behind each estimate: levels and increments, their sigmas
+  // (nullopt below noise_min_samples), the correlation of consecutive
+  // errors rho and the factor sqrt((1 + rho) / (1 - rho)).
+  struct Samples {
+    int levels = 0;
+    int increments = 0;
+    std::optional<double> sigma_level;
+    std::optional<double> sigma_increment;
+    double correlation = 0.0;
+    double inflation = 1.0;
+  };
+  Samples translation;  // m
+  Samples rotation;     // rad
+};
+
 }  // namespace symba
 
 #endif  // SYMBA_BACKEND_ESTIMATES_H_

@@ -37,8 +37,9 @@ struct ReplayResult {
   std::vector<MapObjectEstimate> objects;
   std::vector<DetectionAssignment> assignments;
   BackendStatistics statistics;
-  SolveReport last_solve;  // the final window or the batch solve
-  double seconds = 0.0;    // wall time of the whole replay
+  std::vector<ClassNoiseEstimate> noise;  // Backend::Noise() at the end
+  SolveReport last_solve;                 // the final window or the batch solve
+  double seconds = 0.0;                   // wall time of the whole replay
 };
 
 // Reads `log_path` and replays it. Errors name the file and line.

@@ -55,20 +55,6 @@ Backend::Impl::Impl(const BackendOptions& options,
   marginalization_.rival_distance = options.marginalize_rival_distance;
 }
 
-namespace {
-
-ClassNoiseEstimate::Samples PublicSamples(
-    const internal::NoiseSamplesReport& report) {
-  return {report.levels,
-          report.increments,
-          report.sigma_level,
-          report.sigma_increment,
-          report.correlation,
-          report.inflation};
-}
-
-}  // namespace
-
 std::vector<ClassNoiseEstimate> Backend::Impl::Noise() const {
   std::vector<ClassNoiseEstimate> classes;
   for (const std::string& name : noise_.Classes()) {
@@ -87,8 +73,8 @@ std::vector<ClassNoiseEstimate> Backend::Impl::Noise() const {
         options_.uncalibrated_sigma_t, false, used.sigma_t);
     c.weight_sigma_r = internal::EffectiveSigma(
         options_.uncalibrated_sigma_r, false, used.sigma_r);
-    c.translation = PublicSamples(noise_.TranslationReport(name));
-    c.rotation = PublicSamples(noise_.RotationReport(name));
+    c.translation = noise_.TranslationReport(name);
+    c.rotation = noise_.RotationReport(name);
     classes.push_back(std::move(c));
   }
   return classes;

@@ -36,6 +36,8 @@
 #include <string>
 #include <vector>
 
+#include "symba/backend/estimates.h"
+
 namespace symba::internal {
 
 // The median of a chi distribution with 3 degrees of freedom.
@@ -78,14 +80,8 @@ struct ClassNoise {
 // What one kind of sample (translation or rotation) of a class says: the
 // counts, sigma_L and sigma_I where there are min_samples of each, and the
 // correlation rho and the factor sqrt((1 + rho) / (1 - rho)) they give.
-struct NoiseSamplesReport {
-  int levels = 0;
-  int increments = 0;
-  std::optional<double> sigma_level;
-  std::optional<double> sigma_increment;
-  double correlation = 0.0;
-  double inflation = 1.0;
-};
+// The public report's type (symba/backend/estimates.h).
+using NoiseSamplesReport = ClassNoiseEstimate::Samples;
 
 class DetectionNoiseEstimator {
  public:

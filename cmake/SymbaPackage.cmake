@@ -1,7 +1,8 @@
 # The Debian packages (cpack -G DEB in a build tree), split as Debian splits
 # a library (one package per install component, cmake/SymbaInstall.cmake):
-#   libsymbaX.Y     the shared library libsymba.so.X.Y (X.Y: its soname)
-#   libsymba-dev    headers, libsymba.so, libsymba.a, the CMake package;
+#   libsymbaX.Y     the shared libraries libsymba.so.X.Y (symba::core) and
+#                   libsymba_tools.so.X.Y (symba::tools); X.Y: their soname
+#   libsymba-dev    headers, the .so links, the .a, the CMake package;
 #                   depends on libsymbaX.Y and the -dev packages that
 #                   symbaConfig.cmake finds (Ceres, Eigen)
 #   symba           the command `symba`
@@ -20,7 +21,7 @@ set(CPACK_PACKAGE_CONTACT "symba developers")
 set(CPACK_DEB_COMPONENT_INSTALL ON)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-# The programs need libsymba.so.X.Y, which is in the build tree, not yet in
+# The programs need libsymba(_tools).so.X.Y, which are in the build tree, not yet in
 # a package: dpkg-shlibdeps finds it here and the Depends below name it.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS ${PROJECT_BINARY_DIR}/lib)
 set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)
@@ -41,7 +42,9 @@ set(CPACK_COMPONENT_LIBRARY_DESCRIPTION
 symba categorises each multi-hypothesis object detection as asymmetric,
 discrete- or continuous-symmetric and jointly optimises cameras, objects
 and points with Ceres max-mixture costs. This package holds the shared
-library libsymba.so.${symba_soversion}.")
+libraries libsymba.so.${symba_soversion} (the backend) and
+libsymba_tools.so.${symba_soversion} (simulation, import, export,
+evaluation, replay).")
 
 set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_NAME libsymba-dev)
 set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_SECTION libdevel)
@@ -49,9 +52,10 @@ set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_DEPENDS
   "${symba_deb_library} ${symba_deb_exact}, libceres-dev (>= 2.1), libeigen3-dev (>= 3.4)")
 set(CPACK_COMPONENT_DEVELOPMENT_DESCRIPTION
   "object-SLAM backend for symmetric objects - development files
-The C++17 headers (include/symba), the library libsymba.so (link) and
-libsymba.a, and the CMake package: find_package(symba) gives symba::symba
-(shared) and symba::symba_static.")
+The C++17 headers (include/symba), the libraries libsymba and
+libsymba_tools (.so links and .a), and the CMake package: find_package(symba)
+gives symba::core and symba::tools (shared), symba::core_static and
+symba::tools_static, and symba::symba / symba::symba_static for both.")
 
 set(CPACK_DEBIAN_CLI_PACKAGE_NAME symba)
 set(CPACK_DEBIAN_CLI_PACKAGE_SECTION science)
@@ -89,14 +93,16 @@ endforeach()
 
 # A RelWithDebInfo archive is mostly debug information (over 300 MB): a
 # stripping install (cpack with CPACK_STRIP_FILES) drops it and keeps the
-# symbols, so the archive still links.
-install(CODE "
-  if(CMAKE_INSTALL_DO_STRIP AND NOT \"${CMAKE_STRIP}\" STREQUAL \"\")
-    execute_process(COMMAND \"${CMAKE_STRIP}\" --strip-debug
-      \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:symba>\"
-      RESULT_VARIABLE strip_result)
-    if(NOT strip_result EQUAL 0)
-      message(FATAL_ERROR \"strip --strip-debug failed on the symba archive\")
-    endif()
-  endif()"
-  COMPONENT development)
+# symbols, so the archives still link.
+foreach(archive symba_core_static symba_tools_static)
+  install(CODE "
+    if(CMAKE_INSTALL_DO_STRIP AND NOT \"${CMAKE_STRIP}\" STREQUAL \"\")
+      execute_process(COMMAND \"${CMAKE_STRIP}\" --strip-debug
+        \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:${archive}>\"
+        RESULT_VARIABLE strip_result)
+      if(NOT strip_result EQUAL 0)
+        message(FATAL_ERROR \"strip --strip-debug failed on $<TARGET_FILE_NAME:${archive}>\")
+      endif()
+    endif()"
+    COMPONENT development)
+endforeach()

@@ -80,14 +80,16 @@ foreach(package ${packages})
     expect_in("${depends}" "${package} Depends" "libceres3" "libgoogle-glog" "libstdc++6")
     expect_not_matching("${depends}" "${package} Depends" ${never_depends})
     expect_in("${fields}" "${package} fields" "shared library" "libsymba.so.${SOVERSION}")
-    expect_in("${contents}" "${package} contents" "./usr/${LIBDIR}/libsymba.so.${SOVERSION}")
-    expect_not_matching("${contents}" "${package} contents" "include/" "libsymba\\.a" "bin/symba")
+    expect_in("${contents}" "${package} contents" "./usr/${LIBDIR}/libsymba.so.${SOVERSION}"
+      "./usr/${LIBDIR}/libsymba_tools.so.${SOVERSION}")
+    expect_not_matching("${contents}" "${package} contents" "include/" "libsymba(_tools)?\\.a" "bin/symba")
   elseif(package STREQUAL "libsymba-dev")
     expect_in("${depends}" "${package} Depends" "${exact}" "libceres-dev" "libeigen3-dev")
     expect_in("${fields}" "${package} fields" "headers" "CMake package")
     expect_in("${contents}" "${package} contents"
       "./usr/include/symba/backend/backend.h" "./usr/${LIBDIR}/libsymba.so "
-      "./usr/${LIBDIR}/libsymba.a" "./usr/${LIBDIR}/cmake/symba/symbaConfig.cmake")
+      "./usr/${LIBDIR}/libsymba.a" "./usr/${LIBDIR}/libsymba_tools.so "
+      "./usr/${LIBDIR}/libsymba_tools.a" "./usr/${LIBDIR}/cmake/symba/symbaConfig.cmake")
   elseif(package STREQUAL "symba")
     expect_in("${depends}" "${package} Depends" "${exact}" "libstdc++6")
     expect_not_matching("${depends}" "${package} Depends" ${never_depends})
@@ -123,7 +125,8 @@ if(NOT step_error MATCHES "^symba replay: wrote ${WORK_DIR}/replay: 4 keyframes,
   message(FATAL_ERROR "the extracted symba replay: ${step_error}")
 endif()
 run_step(ldd ${root}/usr/bin/symba)
-expect_in("${step_output}" "ldd of the extracted symba" "${root}/usr/${LIBDIR}/libsymba.so.${SOVERSION}")
+expect_in("${step_output}" "ldd of the extracted symba" "${root}/usr/${LIBDIR}/libsymba.so.${SOVERSION}"
+  "${root}/usr/${LIBDIR}/libsymba_tools.so.${SOVERSION}")
 
 if(NOT BUILD_TYPE)
   set(BUILD_TYPE RelWithDebInfo)
@@ -134,6 +137,8 @@ run_step(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 run_step(${WORK_DIR}/build/symba_consumer)
 run_step(ldd ${WORK_DIR}/build/symba_consumer)
 expect_in("${step_output}" "ldd of the consumer" "${root}/usr/${LIBDIR}/libsymba.so.${SOVERSION}")
+# The consumer links symba::core alone.
+expect_not_matching("${step_output}" "ldd of the consumer" "libsymba_tools")
 
 if(PYTHON)
   set(ENV{PYTHONPATH} ${root}/usr/lib/python3/dist-packages)

@@ -1,4 +1,5 @@
-// A consumer of the installed symba package: uses a header-only part (SE(3)
+// A consumer of the symba package (installed, or the build tree), linking
+// symba::core alone: uses a header-only part (SE(3)
 // math) and a compiled part (AxisManifold) and checks one value of each.
 #include <cmath>
 #include <cstdio>

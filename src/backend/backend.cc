@@ -153,7 +153,10 @@ int Backend::Impl::AddFactor(FactorRecord record) {
   const int f = problem_.size();
   keyframes_[record.keyframe]->factors.push_back(f);
   if (record.keyframe2 >= 0) keyframes_[record.keyframe2]->factors.push_back(f);
-  if (record.point >= 0) points_[record.point]->factors.push_back(f);
+  // Only the condition policy reads a point's factors.
+  if (record.point >= 0 && options_.window_policy == WindowPolicy::kCondition) {
+    points_[record.point]->factors.push_back(f);
+  }
   problem_.Add(std::move(record));
   return f;
 }
@@ -279,6 +282,11 @@ Status Backend::Impl::OptimizeWindow(SolveReport* report) {
 
 Status Backend::Impl::OptimizeBatch(SolveReport* report) {
   if (keyframes_.empty()) return Status::Error("no keyframes to optimise");
+  if (!options_.keep_history && marginalized_until_ > 0) {
+    return Status::Error(
+        "no batch solve: keyframes left the window and their factors were "
+        "freed (set BackendOptions::keep_history to keep them)");
+  }
   const auto start = std::chrono::steady_clock::now();
   RebuildStaleObjectFactors();
   internal::WindowProblem::SyncOptions sync;

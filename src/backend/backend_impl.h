@@ -113,6 +113,10 @@ class Backend::Impl {
   // the window: their factors are marginalised into the prior (marginalize)
   // or dropped (drop).
   void LeaveWindow(int k);
+  // Frees what keyframe k's `left` factors hold that no window solve needs
+  // again: its factor list, and without keep_history the factors' cost
+  // functions and their observations' hypotheses.
+  void ForgetLeftKeyframe(int k, const std::vector<int>& left);
   // The factors of a point or object (`own`: its blocks) from a keyframe
   // that leaves the window, conditioned on everything else and merged with
   // `share` of their information into its own prior (*prior_factor).

@@ -55,7 +55,9 @@ struct KeyframeState {
   // predicted pose (m^2, rad^2; 0 without a motion factor).
   double motion_variance_t = 0.0;
   double motion_variance_r = 0.0;
-  std::vector<int> factors;  // every factor touching this keyframe
+  // Every factor touching this keyframe while it is in the window (freed
+  // when it leaves).
+  std::vector<int> factors;
 
   Rigid3d T_wc() const { return ReadPose(q, t); }
 };
@@ -70,8 +72,10 @@ struct ObjectObservation {
   double sigma_r = 0.0;  // rad
   bool claimed_t = false;
   bool claimed_r = false;
-  std::vector<PoseComponent> components;  // this edge's hypotheses
-  Rigid3d T_co_best;                      // representative hypothesis
+  // This edge's hypotheses (freed when its keyframe leaves the window,
+  // unless BackendOptions::keep_history).
+  std::vector<PoseComponent> components;
+  Rigid3d T_co_best;  // representative hypothesis
   Eigen::Vector3d axis_c = Eigen::Vector3d::Zero();  // measured axis, if any
   int angle = -1;   // discrete: the angle it constrains; -1: no angle
   int factor = -1;  // its edge's factor index
@@ -158,8 +162,8 @@ struct ObjectState {
 
 struct PointState {
   int64_t id = 0;
-  double p[3] = {0, 0, 0};  // p_w
-  std::vector<int> factors;
+  double p[3] = {0, 0, 0};   // p_w
+  std::vector<int> factors;  // condition policy only: its observations
   // marginalize: its observations from keyframes that left the window, as
   // one prior on p_w (the factor's index; -1: none).
   int prior_factor = -1;

@@ -21,6 +21,7 @@ using internal::FactorRecord;
 using internal::KeyframeState;
 using internal::MarginalizationResult;
 using internal::MarginalizationTerm;
+using internal::ObjectObservation;
 using internal::ObjectState;
 
 BlockDescription Backend::Impl::DescribeForPrior(const double* block) const {
@@ -81,6 +82,7 @@ void Backend::Impl::LeaveWindow(int k) {
   ++statistics_.marginalized_keyframes;
   if (!marginalize) {
     for (int f : leaving) problem_.MarkMarginalized(f);
+    ForgetLeftKeyframe(k, leaving);
     return;
   }
   std::sort(point_factors.begin(), point_factors.end());
@@ -142,6 +144,22 @@ void Backend::Impl::LeaveWindow(int k) {
   SYMBA_CHECK(status.ok()) << status.message();
   statistics_.ambiguous_edges_dropped += result.ambiguous;
   problem_.SetPrior(std::move(result.prior), std::move(result.blocks));
+  ForgetLeftKeyframe(k, leaving);
+}
+
+void Backend::Impl::ForgetLeftKeyframe(int k, const std::vector<int>& left) {
+  // Nothing reads a keyframe's factor list once it left the window.
+  std::vector<int>().swap(keyframes_[k]->factors);
+  if (options_.keep_history) return;
+  for (int f : left) {
+    const FactorRecord& record = problem_.factor(f);
+    if (record.object >= 0 && record.observation >= 0) {
+      ObjectObservation& observation =
+          objects_[record.object]->observations[record.observation];
+      std::vector<PoseComponent>().swap(observation.components);
+    }
+    problem_.Forget(f);
+  }
 }
 
 void Backend::Impl::MergeIntoOwnPrior(const std::vector<int>& factors,

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "symba/common/check.h"
+
 namespace symba::internal {
 namespace {
 
@@ -45,6 +47,14 @@ void WindowProblem::MarkMarginalized(int f) {
   FactorRecord& record = factors_[f];
   RemoveResidual(&record.residual, record.blocks);
   record.marginalized = true;
+}
+
+void WindowProblem::Forget(int f) {
+  FactorRecord& record = factors_[f];
+  SYMBA_CHECK(record.marginalized && record.residual == nullptr)
+      << "forgetting a factor still in the window";
+  record.cost.reset();
+  std::vector<double*>().swap(record.blocks);
 }
 
 void WindowProblem::SetPrior(std::unique_ptr<MarginalPriorFactor> prior,
@@ -95,6 +105,7 @@ void WindowProblem::Sync(const std::vector<int>& active,
   for (int f : wanted) {
     FactorRecord& record = factors_[f];
     if (record.residual != nullptr) continue;
+    SYMBA_CHECK(record.cost != nullptr) << "a forgotten factor in a solve";
     const std::vector<int32_t>& sizes = record.cost->parameter_block_sizes();
     for (size_t b = 0; b < record.blocks.size(); ++b) {
       EnsureBlock(record.blocks[b], sizes[b]);

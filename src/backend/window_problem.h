@@ -9,6 +9,7 @@
 #ifndef SYMBA_SRC_BACKEND_WINDOW_PROBLEM_H_
 #define SYMBA_SRC_BACKEND_WINDOW_PROBLEM_H_
 
+#include <deque>
 #include <memory>
 #include <unordered_map>
 #include <vector>
@@ -42,6 +43,9 @@ class WindowProblem {
   // Marginalised: out of the window solves for good (Sync skips it unless
   // with_marginalized), kept for the batch solve.
   void MarkMarginalized(int f);
+  // A marginalised factor the batch solve will not need: its cost function
+  // and blocks are freed, and it can never enter a solve again.
+  void Forget(int f);
 
   const FactorRecord& factor(int f) const { return factors_[f]; }
   int size() const { return static_cast<int>(factors_.size()); }
@@ -81,7 +85,9 @@ class WindowProblem {
   void ReleaseUnusedBlocks();
   void EnsureBlock(double* block, int size);
 
-  std::vector<FactorRecord> factors_;
+  // A deque: adding a factor never moves the others (no peak of twice the
+  // records when a vector would grow).
+  std::deque<FactorRecord> factors_;
   std::unordered_map<const double*, const ceres::Manifold*> manifolds_;
   std::vector<int> in_problem_;
   int sync_stamp_ = 0;

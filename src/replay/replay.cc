@@ -29,8 +29,13 @@ Status ReplayLog(const std::string& log_path,
   std::unique_ptr<LogReader> reader;
   Status status = LogReader::Open(log_path, &reader);
   if (!status.ok()) return status;
+  // A final batch solve needs every factor, also those of keyframes that
+  // left the window.
+  const bool batch = options.mode == ReplayMode::kBatch || options.final_batch;
+  BackendOptions backend_options = options.backend;
+  backend_options.keep_history = backend_options.keep_history || batch;
   std::unique_ptr<Backend> backend;
-  status = Backend::Create(options.backend,
+  status = Backend::Create(backend_options,
                            reader->header().camera,
                            reader->header().classes,
                            &backend);
@@ -55,7 +60,6 @@ Status ReplayLog(const std::string& log_path,
     ++count;
     if (options.progress) options.progress(count);
   }
-  const bool batch = options.mode == ReplayMode::kBatch || options.final_batch;
   if (batch && count > 0) {
     status = backend->OptimizeBatch(&replay.last_solve);
     if (!status.ok()) return Status::Error(log_path + ": " + status.message());

@@ -262,6 +262,7 @@ TEST(BackendWindow, MarginalizeKeepsTheWindowAndThePriorsOnly) {
   options.window_size = 3;
   options.confirm_keyframes = 1;
   options.window_policy = WindowPolicy::kMarginalize;
+  options.keep_history = true;  // for the batch solve at the end
   std::unique_ptr<Backend> backend;
   ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
   const std::vector<KeyframeInput> keyframes = BoxKeyframes(10, {0, 9});
@@ -304,6 +305,56 @@ TEST(BackendWindow, MarginalizeKeepsTheWindowAndThePriorsOnly) {
   ASSERT_TRUE(backend->OptimizeBatch(&batch).ok());
   EXPECT_EQ(batch.residual_blocks, 9 + 2);
   EXPECT_EQ(batch.prior_size, 0);
+}
+
+// keep_history only keeps what the batch solve needs: the window solves
+// give bit-identical estimates with and without it, under marginalize and
+// drop; without it the batch solve is refused once a keyframe has left
+// (its factors were freed), and allowed before that and under condition.
+TEST(BackendWindow, WithoutHistoryTheWindowIsTheSameAndTheBatchIsRefused) {
+  const std::vector<KeyframeInput> keyframes = BoxKeyframes(12, {0, 4, 9, 11});
+  for (WindowPolicy policy : {WindowPolicy::kMarginalize,
+                              WindowPolicy::kDrop,
+                              WindowPolicy::kCondition}) {
+    std::vector<std::vector<KeyframeEstimate>> estimates;
+    for (bool keep_history : {true, false}) {
+      BackendOptions options;
+      options.window_size = 3;
+      options.confirm_keyframes = 1;
+      options.window_policy = policy;
+      options.keep_history = keep_history;
+      std::unique_ptr<Backend> backend;
+      ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
+      for (int k = 0; k < 12; ++k) {
+        ASSERT_TRUE(backend->AddKeyframe(keyframes[k]).ok());
+        ASSERT_TRUE(backend->OptimizeWindow().ok());
+      }
+      estimates.push_back(backend->Keyframes());
+      const Status batch = backend->OptimizeBatch();
+      const bool refused = !keep_history && policy != WindowPolicy::kCondition;
+      EXPECT_EQ(batch.ok(), !refused);
+      if (refused) {
+        EXPECT_NE(batch.message().find("keep_history"), std::string::npos)
+            << batch.message();
+      }
+    }
+    ASSERT_EQ(estimates[0].size(), estimates[1].size());
+    for (size_t k = 0; k < estimates[0].size(); ++k) {
+      EXPECT_EQ(estimates[0][k].T_wc.t, estimates[1][k].T_wc.t) << k;
+      EXPECT_EQ(estimates[0][k].T_wc.q.coeffs(),
+                estimates[1][k].T_wc.q.coeffs())
+          << k;
+    }
+  }
+  // Before anything left the window the batch solve has every factor.
+  BackendOptions options;
+  options.window_size = 3;
+  std::unique_ptr<Backend> backend;
+  ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
+  ASSERT_TRUE(backend->AddKeyframe(keyframes[0]).ok());
+  ASSERT_TRUE(backend->AddKeyframe(keyframes[1]).ok());
+  ASSERT_TRUE(backend->OptimizeWindow().ok());
+  EXPECT_TRUE(backend->OptimizeBatch().ok());
 }
 
 // Over a long run the window's problem stays the same size under

@@ -544,6 +544,7 @@ TEST(BackendSequences, UpgradeAfterMarginalisationKeepsOneObject) {
   options.confirm_keyframes = 1;
   options.window_size = 2;
   options.window_policy = WindowPolicy::kMarginalize;
+  options.keep_history = true;  // for the batch solve at the end
   std::unique_ptr<Backend> backend;
   ASSERT_TRUE(Backend::Create(options, seq.intrinsics, {}, &backend).ok());
   for (size_t k = 0; k < seq.keyframes.size(); ++k) {

@@ -91,6 +91,13 @@ struct BackendOptions {
   double marginalize_min_margin = 2.0;
   double marginalize_rival_distance = 5.0;
   ChainPrior chain_prior = ChainPrior::kConditional;
+  // Whether the factors of keyframes that left the window are kept for
+  // OptimizeBatch. Without (the default) they are freed once marginalised
+  // or dropped, so memory grows with the map and the keyframes' poses, not
+  // with every detection ever made; OptimizeBatch then fails unless
+  // window_policy is condition (under which nothing leaves). symba replay
+  // keeps them when asked for a final batch solve.
+  bool keep_history = false;
   // Levenberg-Marquardt iterations per window solve and per batch solve.
   int max_iterations = 10;
   int batch_max_iterations = 50;

@@ -9,31 +9,13 @@
 //                    and add its object edges (method notes Sec. 2-5).
 //                    Returns the keyframe's assignments.
 //   OptimizeWindow   the last K = window_size keyframes and everything they
-//                    observe are free. What happens to older keyframes is
-//                    options().window_policy:
-//                      marginalize (default): when a keyframe leaves the
-//                        window, its factors leave the problem for good and
-//                        its pose is final. Its motion factors become a
-//                        linear prior on the later keyframes (with
-//                        chain_prior kConditional, the default, given its
-//                        pose; with kMarginal, its pose eliminated by the
-//                        Schur complement with the previous prior and half
-//                        of its point observations); its object edges and
-//                        point observations (the other halves under
-//                        kMarginal) become each object's and point's own
-//                        prior, conditioned on its pose. All
-//                        linearised at the estimate of that moment. A solve
-//                        holds the window's factors and those priors: its
-//                        cost does not grow with the length of the run.
-//                      condition: older keyframes that share an object or a
-//                        point with the window are held constant with all
-//                        their factors (the cost grows with the run).
-//                      drop: older keyframes' factors leave the problem and
-//                        their information is lost; the oldest window
-//                        keyframe is held constant.
-//                    The first keyframe fixes the gauge while in the window.
+//                    observe are free; older keyframes are marginalised into
+//                    priors, held constant or dropped, as
+//                    options().window_policy says (backend_options.h;
+//                    docs/backend.md "The window" is where it is explained).
 //   OptimizeBatch    everything free but the first keyframe, every factor
-//                    ever added (never the prior), under every policy.
+//                    ever added (never the priors); needs
+//                    options().keep_history once keyframes left the window.
 //   Keyframe / Object          one estimate by id (cheap: for every frame)
 //   Keyframes / Objects / Assignments   every estimate (O(run))
 //

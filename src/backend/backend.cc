@@ -50,10 +50,8 @@ Backend::Impl::Impl(const BackendOptions& options,
       class_priors_(class_priors),
       object_loss_(MakeLoss(options.object_loss, options.object_loss_scale)),
       point_loss_(std::make_unique<ceres::HuberLoss>(options.point_loss_scale)),
-      noise_(options.noise_window, options.noise_min_samples) {
-  marginalization_.min_winner_margin = options.marginalize_min_margin;
-  marginalization_.rival_distance = options.marginalize_rival_distance;
-}
+      noise_(options.noise_window, options.noise_min_samples),
+      graph_(options_, keyframes_, objects_, points_, &statistics_) {}
 
 std::vector<ClassNoiseEstimate> Backend::Impl::Noise() const {
   std::vector<ClassNoiseEstimate> classes;
@@ -111,7 +109,7 @@ Status Backend::Impl::AddKeyframe(
   if (input.T_wc) kf->T_wc_frontend = Normalized(*input.T_wc);
   const int k = static_cast<int>(keyframes_.size());
   keyframes_.push_back(std::move(kf));
-  problem_.SetManifold(keyframes_[k]->q, &quaternion_manifold_);
+  graph_.SetManifold(keyframes_[k]->q, &quaternion_manifold_);
   ++statistics_.keyframes;
 
   AddCameraFactors(k, input);
@@ -144,197 +142,49 @@ Status Backend::Impl::AddKeyframe(
 // ---------------------------------------------------------------------------
 // Factors and the solves.
 
-int Backend::Impl::AddFactor(FactorRecord record) {
-  SYMBA_CHECK(record.cost != nullptr) << "a factor without a cost function";
-  // A rebuilt edge of a keyframe that left the window serves the batch
-  // solve only.
-  record.marginalized = options_.window_policy != WindowPolicy::kCondition &&
-                        record.keyframe < marginalized_until_;
-  const int f = problem_.size();
-  keyframes_[record.keyframe]->factors.push_back(f);
-  if (record.keyframe2 >= 0) keyframes_[record.keyframe2]->factors.push_back(f);
-  // Only the condition policy reads a point's factors.
-  if (record.point >= 0 && options_.window_policy == WindowPolicy::kCondition) {
-    points_[record.point]->factors.push_back(f);
-  }
-  problem_.Add(std::move(record));
-  return f;
-}
-
-bool Backend::Impl::InMap(const FactorRecord& record) const {
-  return !record.retired &&
-         (record.object < 0 || objects_[record.object]->status ==
-                                   internal::ObjectStatus::kConfirmed);
-}
-
-std::vector<int> Backend::Impl::ConditionedFactors(int first_free) const {
-  // The window keyframes and everything they observe, with every factor of
-  // those.
-  const int n = static_cast<int>(keyframes_.size());
-  std::vector<char> object_free(objects_.size(), 0);
-  std::vector<char> point_free(points_.size(), 0);
-  std::vector<int> active;
-  for (int k = first_free; k < n; ++k) {
-    for (int f : keyframes_[k]->factors) {
-      const FactorRecord& record = problem_.factor(f);
-      if (!InMap(record)) continue;
-      active.push_back(f);
-      if (record.object >= 0) object_free[record.object] = 1;
-      if (record.point >= 0) point_free[record.point] = 1;
-    }
-  }
-  for (size_t o = 0; o < objects_.size(); ++o) {
-    if (!object_free[o]) continue;
-    for (const ObjectObservation& observation : objects_[o]->observations) {
-      if (observation.factor >= 0) active.push_back(observation.factor);
-    }
-  }
-  for (size_t p = 0; p < points_.size(); ++p) {
-    if (!point_free[p]) continue;
-    for (int f : points_[p]->factors) {
-      if (InMap(problem_.factor(f))) active.push_back(f);
-    }
-  }
-  return active;
-}
-
-std::vector<int> Backend::Impl::WindowFactors(int first_free) const {
-  std::vector<int> active;
-  std::vector<int> points;
-  std::vector<int> objects;
-  for (int k = first_free; k < static_cast<int>(keyframes_.size()); ++k) {
-    for (int f : keyframes_[k]->factors) {
-      const FactorRecord& record = problem_.factor(f);
-      if (!InMap(record) || record.marginalized) continue;
-      active.push_back(f);
-      if (record.point >= 0) points.push_back(record.point);
-      if (record.object >= 0) objects.push_back(record.object);
-    }
-  }
-  std::sort(objects.begin(), objects.end());
-  objects.erase(std::unique(objects.begin(), objects.end()), objects.end());
-  for (int o : objects) {
-    if (objects_[o]->prior_factor >= 0) {
-      active.push_back(objects_[o]->prior_factor);
-    }
-  }
-  // The points' priors from their observations that left the window.
-  std::sort(points.begin(), points.end());
-  points.erase(std::unique(points.begin(), points.end()), points.end());
-  for (int p : points) {
-    if (points_[p]->prior_factor >= 0)
-      active.push_back(points_[p]->prior_factor);
-  }
-  return active;
-}
-
-std::vector<int> Backend::Impl::AllFactors() const {
-  std::vector<int> active;
-  for (int f = 0; f < problem_.size(); ++f) {
-    const FactorRecord& record = problem_.factor(f);
-    if (InMap(record) && !record.summary) active.push_back(f);
-  }
-  return active;
-}
-
-int Backend::Impl::SetKeyframeFreedom(int first_free, int gauge) {
-  // Every keyframe the problem holds appears in one of its factors.
-  std::vector<int> held;
-  for (int f : problem_.in_problem()) {
-    const FactorRecord& record = problem_.factor(f);
-    if (record.keyframe >= 0) held.push_back(record.keyframe);
-    if (record.keyframe2 >= 0) held.push_back(record.keyframe2);
-  }
-  std::sort(held.begin(), held.end());
-  held.erase(std::unique(held.begin(), held.end()), held.end());
-  int free_keyframes = 0;
-  for (int k : held) {
-    KeyframeState& kf = *keyframes_[k];
-    const bool free = k >= first_free && k != gauge;
-    problem_.SetConstant(kf.q, !free);
-    problem_.SetConstant(kf.t, !free);
-    free_keyframes += free ? 1 : 0;
-  }
-  return free_keyframes;
-}
-
 Status Backend::Impl::OptimizeWindow(SolveReport* report) {
   if (keyframes_.empty()) return Status::Error("no keyframes to optimise");
   const auto start = std::chrono::steady_clock::now();
-  const int first = WindowStart();
-  const WindowPolicy policy = options_.window_policy;
-  internal::WindowProblem::SyncOptions sync;
-  // The gauge: the first keyframe while in the window; under drop the
-  // oldest window keyframe.
-  int gauge = 0;
-  if (policy == WindowPolicy::kCondition) {
-    problem_.Sync(ConditionedFactors(first), sync);
-  } else {
-    while (marginalized_until_ < first) LeaveWindow(marginalized_until_++);
-    sync.with_prior = policy == WindowPolicy::kMarginalize;
-    problem_.Sync(WindowFactors(first), sync);
-    if (policy == WindowPolicy::kDrop) gauge = first;
-  }
-  const int free_keyframes = SetKeyframeFreedom(first, gauge);
-  return Solve(
-      "window", options_.max_iterations, free_keyframes, start, report);
+  internal::SolveOutcome outcome;
+  graph_.SolveWindow(WindowStart(), &outcome);
+  return Finish("window", outcome, start, report);
 }
 
 Status Backend::Impl::OptimizeBatch(SolveReport* report) {
   if (keyframes_.empty()) return Status::Error("no keyframes to optimise");
-  if (!options_.keep_history && marginalized_until_ > 0) {
-    return Status::Error(
-        "no batch solve: keyframes left the window and their factors were "
-        "freed (set BackendOptions::keep_history to keep them)");
-  }
   const auto start = std::chrono::steady_clock::now();
   RebuildStaleObjectFactors();
-  internal::WindowProblem::SyncOptions sync;
-  sync.with_marginalized = true;
-  problem_.Sync(AllFactors(), sync);
-  const int free_keyframes = SetKeyframeFreedom(0, 0);
-  return Solve(
-      "batch", options_.batch_max_iterations, free_keyframes, start, report);
+  internal::SolveOutcome outcome;
+  const Status status = graph_.SolveBatch(&outcome);
+  if (!status.ok()) return status;
+  return Finish("batch", outcome, start, report);
 }
 
-Status Backend::Impl::Solve(const char* what,
-                            int max_iterations,
-                            int free_keyframes,
-                            const std::chrono::steady_clock::time_point& start,
-                            SolveReport* report) {
-  ceres::Solver::Summary summary;
-  if (problem_.NumResidualBlocks() > 0) {
-    ceres::Solver::Options solver_options;
-    solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-    solver_options.max_num_iterations = max_iterations;
-    solver_options.num_threads = options_.num_threads;
-    solver_options.logging_type = ceres::SILENT;
-    problem_.Solve(solver_options, &summary);
-  }
+Status Backend::Impl::Finish(const char* what,
+                             const internal::SolveOutcome& outcome,
+                             const std::chrono::steady_clock::time_point& start,
+                             SolveReport* report) {
   ReanchorDriftedObjects();
-
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
   ++statistics_.solves;
   statistics_.solve_seconds += seconds;
-  statistics_.solve_iterations += static_cast<int>(summary.iterations.size());
+  statistics_.solve_iterations += outcome.iterations;
   if (report != nullptr) {
-    report->iterations = static_cast<int>(summary.iterations.size());
-    report->initial_cost = summary.initial_cost;
-    report->final_cost = summary.final_cost;
+    report->iterations = outcome.iterations;
+    report->initial_cost = outcome.initial_cost;
+    report->final_cost = outcome.final_cost;
     report->seconds = seconds;
-    report->converged = summary.termination_type == ceres::CONVERGENCE;
-    report->free_keyframes = free_keyframes;
-    report->residual_blocks = problem_.NumResidualBlocks();
-    report->parameter_blocks = problem_.NumParameterBlocks();
-    report->prior_size = problem_.prior_in_problem()
-                             ? static_cast<int>(problem_.prior()->A().cols())
-                             : 0;
+    report->converged = outcome.converged;
+    report->free_keyframes = outcome.free_keyframes;
+    report->residual_blocks = outcome.residual_blocks;
+    report->parameter_blocks = outcome.parameter_blocks;
+    report->prior_size = outcome.prior_size;
   }
-  if (problem_.NumResidualBlocks() > 0 && !summary.IsSolutionUsable()) {
+  if (outcome.solved && !outcome.usable) {
     return Status::Error(std::string("the ") + what +
-                         " solve failed: " + summary.message);
+                         " solve failed: " + outcome.message);
   }
   return Status::Ok();
 }

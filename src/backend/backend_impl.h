@@ -1,17 +1,15 @@
 // Backend::Impl: the backend's state and the steps of AddKeyframe and the
 // solves. Its member functions are defined by topic:
 //   backend.cc      AddKeyframe, the solves, read-back
-//   window.cc       keyframes leaving the window: marginalisation and the
-//                   prior
 //   detections.cc   a keyframe's detections, per method
 //   keyframe_factors.cc  a keyframe's initial pose, camera motion factor
 //                   and point observations
 //   map_objects.cc  the object lifecycle: creation, upgrades, observations,
 //                   re-anchoring and building object edges
-// Association (association.h), detection observations
-// (detection_observations.h), input checks (keyframe_validation.h) and the
-// persistent Ceres problem (window_problem.h) are units of their own. Not
-// installed.
+// The factors, the window and the solves are the factor graph's
+// (factor_graph.h). Association (association.h), detection observations
+// (detection_observations.h) and input checks (keyframe_validation.h) are
+// units of their own (docs/architecture.md). Not installed.
 #ifndef SYMBA_SRC_BACKEND_BACKEND_IMPL_H_
 #define SYMBA_SRC_BACKEND_BACKEND_IMPL_H_
 
@@ -29,8 +27,7 @@
 #include "backend/association.h"
 #include "backend/backend_state.h"
 #include "backend/detection_noise.h"
-#include "backend/marginalization.h"
-#include "backend/window_problem.h"
+#include "backend/factor_graph.h"
 #include "symba/backend/backend.h"
 #include "symba/manifolds/axis_manifold.h"
 
@@ -90,54 +87,11 @@ class Backend::Impl {
                            internal::ObjectObservation* observation) const;
   std::optional<double> GateSigma(const DetectionInput& detection) const;
 
-  // The solve's free set and active factors (backend.cc). A factor is in
-  // the map unless it was retired or its object is not confirmed.
-  bool InMap(const internal::FactorRecord& record) const;
-  // condition: the window keyframes' factors and every factor of what they
-  // observe (grows with the run).
-  std::vector<int> ConditionedFactors(int first_free) const;
-  // marginalize, drop: the window keyframes' factors only.
-  std::vector<int> WindowFactors(int first_free) const;
-  // batch: every factor in the map.
-  std::vector<int> AllFactors() const;
-  // Sets the keyframes the problem holds constant or free (free: index >=
-  // first_free, not the gauge); returns the free count. O(problem size).
-  int SetKeyframeFreedom(int first_free, int gauge);
-  Status Solve(const char* what,
-               int max_iterations,
-               int free_keyframes,
-               const std::chrono::steady_clock::time_point& start,
-               SolveReport* report);
-
-  // The window (window.cc). Keyframes before marginalized_until_ have left
-  // the window: their factors are marginalised into the prior (marginalize)
-  // or dropped (drop).
-  void LeaveWindow(int k);
-  // Frees what keyframe k's `left` factors hold that no window solve needs
-  // again: its factor list, and without keep_history the factors' cost
-  // functions and their observations' hypotheses.
-  void ForgetLeftKeyframe(int k, const std::vector<int>& left);
-  // The factors of a point or object (`own`: its blocks) from a keyframe
-  // that leaves the window, conditioned on everything else and merged with
-  // `share` of their information into its own prior (*prior_factor).
-  void MergeIntoOwnPrior(const std::vector<int>& factors,
-                         const std::vector<double*>& own,
-                         double share,
-                         int object,
-                         int point,
-                         int* prior_factor);
-  // Marginalises `terms` (`describe` says which blocks are the entity's) and
-  // stores the result as the entity's prior in place of *prior_factor.
-  void ReplaceOwnPrior(const std::vector<internal::MarginalizationTerm>& terms,
-                       const internal::BlockDescriber& describe,
-                       int object,
-                       int point,
-                       int* prior_factor);
-  // Marginalises `blocks` out of object o's prior (their information on
-  // its other blocks stays); nothing if the prior has none of them.
-  void RemoveFromObjectPrior(int o, const std::vector<double*>& blocks);
-  internal::BlockDescription DescribeForPrior(const double* block) const;
-  static std::vector<double*> ObjectBlocks(internal::ObjectState& object);
+  // The end of a solve: re-anchoring, statistics and the report.
+  Status Finish(const char* what,
+                const internal::SolveOutcome& outcome,
+                const std::chrono::steady_clock::time_point& start,
+                SolveReport* report);
 
   // Map objects (map_objects.cc).
   int CreateObject(const std::string& class_name, SymmetryType type, int k);
@@ -195,9 +149,6 @@ class Backend::Impl {
   void RebuildObjectFactors(int o, int begin, int end);
   // The batch solve first rebuilds every stale edge.
   void RebuildStaleObjectFactors();
-  // The first observation of object o whose keyframe has not left the
-  // window for good (0 under condition). O(log observations).
-  int FirstLiveObservation(int o) const;
   MapObjectEstimate EstimateOf(const internal::ObjectState& object) const;
   void ReanchorDriftedObjects();
   std::unique_ptr<ceres::CostFunction> BuildObjectEdge(
@@ -205,9 +156,6 @@ class Backend::Impl {
       internal::ObjectState* object,
       const internal::ObjectObservation& observation,
       std::vector<double*>* blocks) const;
-
-  // Registers a factor with the entities it touches (backend.cc).
-  int AddFactor(internal::FactorRecord record);
 
   std::optional<PinholeIntrinsics> intrinsics_;
   std::map<std::string, ClassPrior> class_priors_;
@@ -232,9 +180,8 @@ class Backend::Impl {
   std::map<std::string, std::vector<int>> objects_by_class_;
   internal::DetectionNoiseEstimator noise_;
   std::map<std::string, internal::ClassNoise> applied_noise_;
-  internal::WindowProblem problem_;
-  int marginalized_until_ = 0;
-  internal::MarginalizationOptions marginalization_;
+  // After the keyframes, objects and points it refers to.
+  internal::FactorGraph graph_;
 };
 
 }  // namespace symba

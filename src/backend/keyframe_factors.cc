@@ -77,7 +77,7 @@ void Backend::Impl::AddCameraFactors(int k, const KeyframeInput& input) {
   record.blocks = {prev.q, prev.t, kf.q, kf.t};
   record.keyframe = k;
   record.keyframe2 = other;
-  AddFactor(std::move(record));
+  graph_.Add(std::move(record));
 }
 
 void Backend::Impl::AddPointObservations(int k, const KeyframeInput& input) {
@@ -107,7 +107,7 @@ void Backend::Impl::AddPointObservations(int k, const KeyframeInput& input) {
     record.blocks = {kf.q, kf.t, points_[it->second]->p};
     record.keyframe = k;
     record.point = it->second;
-    AddFactor(std::move(record));
+    graph_.Add(std::move(record));
     if (obs.depth && options_.point_depth_sigma_relative > 0.0) {
       FactorRecord depth;
       depth.cost.reset(PointDepthFactor::Create(
@@ -116,7 +116,7 @@ void Backend::Impl::AddPointObservations(int k, const KeyframeInput& input) {
       depth.blocks = {kf.q, kf.t, points_[it->second]->p};
       depth.keyframe = k;
       depth.point = it->second;
-      AddFactor(std::move(depth));
+      graph_.Add(std::move(depth));
     }
   }
 }

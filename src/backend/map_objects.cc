@@ -34,8 +34,8 @@ int Backend::Impl::CreateObject(const std::string& class_name,
   object->created_keyframe = k;
   objects_.push_back(std::move(object));
   ObjectState& created = *objects_.back();
-  problem_.SetManifold(created.q, &quaternion_manifold_);
-  problem_.SetManifold(created.a_w, &axis_manifold_);
+  graph_.SetManifold(created.q, &quaternion_manifold_);
+  graph_.SetManifold(created.a_w, &axis_manifold_);
   objects_by_class_[class_name].push_back(created.id);
   if (options_.confirm_keyframes > 1) {
     created.status = internal::ObjectStatus::kTentative;
@@ -105,10 +105,10 @@ void Backend::Impl::DropObject(int o) {
   ObjectState& object = *objects_[o];
   object.status = internal::ObjectStatus::kDropped;
   for (ObjectObservation& observation : object.observations) {
-    if (observation.factor >= 0) problem_.Retire(observation.factor);
+    if (observation.factor >= 0) graph_.Retire(observation.factor);
     observation.factor = -1;
   }
-  if (object.prior_factor >= 0) problem_.Retire(object.prior_factor);
+  if (object.prior_factor >= 0) graph_.Retire(object.prior_factor);
   object.prior_factor = -1;
   for (int a : object.assignments) assignments_[a].object = -1;
   ++statistics_.objects_dropped;
@@ -181,7 +181,7 @@ void Backend::Impl::UpgradeObject(int o,
   // The prior's rotation of the asymmetric object has no counterpart in
   // the symmetric parameters: it is marginalised out of the prior, whose
   // information on the position stays (docs/backend.md "The window").
-  RemoveFromObjectPrior(o, {object.q});
+  graph_.RemoveFromObjectPrior(o, {object.q});
   const Eigen::Quaterniond R_wo = object.Rotation(-1);
   object.type = type;
   object.a_o = a_o.normalized();
@@ -191,7 +191,8 @@ void Backend::Impl::UpgradeObject(int o,
     // The asymmetric pose is angle 0; every past observation constrains it.
     object.thetas.push_back(std::make_unique<double>(0.0));
     object.upgrade_observations = static_cast<int>(object.observations.size());
-    for (size_t i = FirstLiveObservation(o); i < object.observations.size();
+    for (size_t i = graph_.FirstLiveObservation(object);
+         i < object.observations.size();
          ++i) {
       object.observations[i].angle = 0;
     }
@@ -263,25 +264,12 @@ void Backend::Impl::AddObjectFactor(int o, int i) {
   record.keyframe = observation.keyframe;
   record.object = o;
   record.observation = i;
-  objects_[o]->observations[i].factor = AddFactor(std::move(record));
-}
-
-int Backend::Impl::FirstLiveObservation(int o) const {
-  const ObjectState& object = *objects_[o];
-  if (options_.window_policy == WindowPolicy::kCondition) return 0;
-  // Observations are in keyframe order.
-  const auto first =
-      std::partition_point(object.observations.begin(),
-                           object.observations.end(),
-                           [this](const ObjectObservation& observation) {
-                             return observation.keyframe < marginalized_until_;
-                           });
-  return static_cast<int>(first - object.observations.begin());
+  objects_[o]->observations[i].factor = graph_.Add(std::move(record));
 }
 
 void Backend::Impl::RebuildObjectFactors(int o) {
   ObjectState& object = *objects_[o];
-  const int first = FirstLiveObservation(o);
+  const int first = graph_.FirstLiveObservation(object);
   RebuildObjectFactors(o, first, static_cast<int>(object.observations.size()));
   object.stale_observations = std::max(object.stale_observations, first);
 }
@@ -290,7 +278,7 @@ void Backend::Impl::RebuildObjectFactors(int o, int begin, int end) {
   ObjectState& object = *objects_[o];
   for (int i = begin; i < end; ++i) {
     ObjectObservation& observation = object.observations[i];
-    if (observation.factor >= 0) problem_.Retire(observation.factor);
+    if (observation.factor >= 0) graph_.Retire(observation.factor);
     AddObjectFactor(o, i);
   }
 }
@@ -412,7 +400,7 @@ void Backend::Impl::ReanchorDriftedObjects() {
     // The angles now measure from another base: out of the prior.
     std::vector<double*> thetas;
     for (const auto& theta : object.thetas) thetas.push_back(theta.get());
-    RemoveFromObjectPrior(static_cast<int>(o), thetas);
+    graph_.RemoveFromObjectPrior(static_cast<int>(o), thetas);
     RebuildObjectFactors(static_cast<int>(o));
   }
 }

@@ -1,4 +1,4 @@
-// Backend::Impl: keyframes leaving the window (docs/backend.md "The
+// FactorGraph: keyframes leaving the window (docs/backend.md "The
 // window"). Under marginalize, a leaving keyframe's factors are linearised
 // into priors (marginalization.h): its motion factors into the keyframe
 // prior (given its pose under the conditional chain prior; with its pose
@@ -10,34 +10,21 @@
 #include <algorithm>
 #include <utility>
 
-#include "backend/backend_impl.h"
+#include "backend/factor_graph.h"
 #include "symba/common/check.h"
 
-namespace symba {
+namespace symba::internal {
+namespace {
 
-using internal::BlockDescription;
-using internal::BlockRole;
-using internal::FactorRecord;
-using internal::KeyframeState;
-using internal::MarginalizationResult;
-using internal::MarginalizationTerm;
-using internal::ObjectObservation;
-using internal::ObjectState;
-
-BlockDescription Backend::Impl::DescribeForPrior(const double* block) const {
-  BlockDescription description;
-  description.role = BlockRole::kKeep;
-  description.manifold = problem_.ManifoldOf(block);
-  return description;
-}
-
-std::vector<double*> Backend::Impl::ObjectBlocks(ObjectState& object) {
+std::vector<double*> ObjectBlocks(ObjectState& object) {
   std::vector<double*> blocks = {object.q, object.t, object.a_w};
   for (const auto& theta : object.thetas) blocks.push_back(theta.get());
   return blocks;
 }
 
-void Backend::Impl::LeaveWindow(int k) {
+}  // namespace
+
+void FactorGraph::LeaveWindow(int k) {
   KeyframeState& kf = *keyframes_[k];
   const bool marginalize = options_.window_policy == WindowPolicy::kMarginalize;
   // Under a marginal chain prior a point observation informs both the
@@ -79,7 +66,7 @@ void Backend::Impl::LeaveWindow(int k) {
       }
     }
   }
-  ++statistics_.marginalized_keyframes;
+  ++statistics_->marginalized_keyframes;
   if (!marginalize) {
     for (int f : leaving) problem_.MarkMarginalized(f);
     ForgetLeftKeyframe(k, leaving);
@@ -93,7 +80,7 @@ void Backend::Impl::LeaveWindow(int k) {
            point_factors[end].first == point_factors[i].first) {
       factors.push_back(point_factors[end++].second);
     }
-    internal::PointState& point = *points_[point_factors[i].first];
+    PointState& point = *points_[point_factors[i].first];
     MergeIntoOwnPrior(factors,
                       {point.p},
                       point_share,
@@ -128,7 +115,7 @@ void Backend::Impl::LeaveWindow(int k) {
   const BlockRole own_role =
       k == 0 || !marginal_chain ? BlockRole::kConstant : BlockRole::kEliminate;
   auto describe = [&](const double* block) {
-    BlockDescription description = DescribeForPrior(block);
+    BlockDescription description{BlockRole::kKeep, problem_.ManifoldOf(block)};
     if (block == kf.q || block == kf.t) {
       description.role = own_role;
     } else if (std::find(constant.begin(), constant.end(), block) !=
@@ -138,16 +125,15 @@ void Backend::Impl::LeaveWindow(int k) {
     return description;
   };
   MarginalizationResult result;
-  const Status status =
-      internal::Marginalize(terms, describe, marginalization_, &result);
+  const Status status = Marginalize(terms, describe, marginalization_, &result);
   // Every block in the problem has a manifold the prior expresses.
   SYMBA_CHECK(status.ok()) << status.message();
-  statistics_.ambiguous_edges_dropped += result.ambiguous;
+  statistics_->ambiguous_edges_dropped += result.ambiguous;
   problem_.SetPrior(std::move(result.prior), std::move(result.blocks));
   ForgetLeftKeyframe(k, leaving);
 }
 
-void Backend::Impl::ForgetLeftKeyframe(int k, const std::vector<int>& left) {
+void FactorGraph::ForgetLeftKeyframe(int k, const std::vector<int>& left) {
   // Nothing reads a keyframe's factor list once it left the window.
   std::vector<int>().swap(keyframes_[k]->factors);
   if (options_.keep_history) return;
@@ -162,12 +148,12 @@ void Backend::Impl::ForgetLeftKeyframe(int k, const std::vector<int>& left) {
   }
 }
 
-void Backend::Impl::MergeIntoOwnPrior(const std::vector<int>& factors,
-                                      const std::vector<double*>& own,
-                                      double share,
-                                      int object,
-                                      int point,
-                                      int* prior_factor) {
+void FactorGraph::MergeIntoOwnPrior(const std::vector<int>& factors,
+                                    const std::vector<double*>& own,
+                                    double share,
+                                    int object,
+                                    int point,
+                                    int* prior_factor) {
   std::vector<MarginalizationTerm> terms;
   for (int f : factors) {
     const FactorRecord& record = problem_.factor(f);
@@ -179,7 +165,7 @@ void Backend::Impl::MergeIntoOwnPrior(const std::vector<int>& factors,
   }
   // The keyframe's pose is final: the observation is conditioned on it.
   auto describe = [&](const double* block) {
-    BlockDescription description = DescribeForPrior(block);
+    BlockDescription description{BlockRole::kKeep, problem_.ManifoldOf(block)};
     if (std::find(own.begin(), own.end(), block) == own.end()) {
       description.role = BlockRole::kConstant;
     }
@@ -188,18 +174,16 @@ void Backend::Impl::MergeIntoOwnPrior(const std::vector<int>& factors,
   ReplaceOwnPrior(terms, describe, object, point, prior_factor);
 }
 
-void Backend::Impl::ReplaceOwnPrior(
-    const std::vector<MarginalizationTerm>& terms,
-    const internal::BlockDescriber& describe,
-    int object,
-    int point,
-    int* prior_factor) {
+void FactorGraph::ReplaceOwnPrior(const std::vector<MarginalizationTerm>& terms,
+                                  const BlockDescriber& describe,
+                                  int object,
+                                  int point,
+                                  int* prior_factor) {
   MarginalizationResult result;
-  const Status status =
-      internal::Marginalize(terms, describe, marginalization_, &result);
+  const Status status = Marginalize(terms, describe, marginalization_, &result);
   // Every block in the problem has a manifold the prior expresses.
   SYMBA_CHECK(status.ok()) << status.message();
-  statistics_.ambiguous_edges_dropped += result.ambiguous;
+  statistics_->ambiguous_edges_dropped += result.ambiguous;
   // The old prior (one of the terms) is used up only now.
   if (*prior_factor >= 0) problem_.Retire(*prior_factor);
   *prior_factor = -1;
@@ -213,8 +197,8 @@ void Backend::Impl::ReplaceOwnPrior(
   *prior_factor = problem_.Add(std::move(record));
 }
 
-void Backend::Impl::RemoveFromObjectPrior(int o,
-                                          const std::vector<double*>& blocks) {
+void FactorGraph::RemoveFromObjectPrior(int o,
+                                        const std::vector<double*>& blocks) {
   ObjectState& object = *objects_[o];
   if (object.prior_factor < 0) return;
   const FactorRecord& prior = problem_.factor(object.prior_factor);
@@ -226,7 +210,7 @@ void Backend::Impl::RemoveFromObjectPrior(int o,
   if (!touched) return;
   // Eliminate `blocks` (their information on the rest stays).
   auto describe = [&](const double* block) {
-    BlockDescription description = DescribeForPrior(block);
+    BlockDescription description{BlockRole::kKeep, problem_.ManifoldOf(block)};
     if (std::find(blocks.begin(), blocks.end(), block) != blocks.end()) {
       description.role = BlockRole::kEliminate;
     }
@@ -239,4 +223,4 @@ void Backend::Impl::RemoveFromObjectPrior(int o,
                   &object.prior_factor);
 }
 
-}  // namespace symba
+}  // namespace symba::internal

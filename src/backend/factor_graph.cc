@@ -1,0 +1,216 @@
+// FactorGraph: the factors' registry, what each solve holds and the solves
+// (factor_graph.h). Keyframes leaving the window are in window.cc.
+#include "backend/factor_graph.h"
+
+#include <algorithm>
+#include <utility>
+
+#include <ceres/solver.h>
+
+#include "symba/common/check.h"
+
+namespace symba::internal {
+
+FactorGraph::FactorGraph(const BackendOptions& options,
+                         const KeyframeList& keyframes,
+                         const ObjectList& objects,
+                         const PointList& points,
+                         BackendStatistics* statistics)
+    : options_(options),
+      keyframes_(keyframes),
+      objects_(objects),
+      points_(points),
+      statistics_(statistics) {
+  marginalization_.min_winner_margin = options.marginalize_min_margin;
+  marginalization_.rival_distance = options.marginalize_rival_distance;
+}
+
+void FactorGraph::SetManifold(const double* block,
+                              const ceres::Manifold* manifold) {
+  problem_.SetManifold(block, manifold);
+}
+
+int FactorGraph::FirstLiveObservation(const ObjectState& object) const {
+  if (options_.window_policy == WindowPolicy::kCondition) return 0;
+  // Observations are in keyframe order.
+  const auto first =
+      std::partition_point(object.observations.begin(),
+                           object.observations.end(),
+                           [this](const ObjectObservation& observation) {
+                             return observation.keyframe < marginalized_until_;
+                           });
+  return static_cast<int>(first - object.observations.begin());
+}
+
+int FactorGraph::Add(FactorRecord record) {
+  SYMBA_CHECK(record.cost != nullptr) << "a factor without a cost function";
+  // A rebuilt edge of a keyframe that left the window serves the batch
+  // solve only.
+  record.marginalized = options_.window_policy != WindowPolicy::kCondition &&
+                        record.keyframe < marginalized_until_;
+  const int f = problem_.size();
+  keyframes_[record.keyframe]->factors.push_back(f);
+  if (record.keyframe2 >= 0) keyframes_[record.keyframe2]->factors.push_back(f);
+  // Only the condition policy reads a point's factors.
+  if (record.point >= 0 && options_.window_policy == WindowPolicy::kCondition) {
+    points_[record.point]->factors.push_back(f);
+  }
+  problem_.Add(std::move(record));
+  return f;
+}
+
+bool FactorGraph::InMap(const FactorRecord& record) const {
+  return !record.retired &&
+         (record.object < 0 ||
+          objects_[record.object]->status == ObjectStatus::kConfirmed);
+}
+
+std::vector<int> FactorGraph::ConditionedFactors(int first_free) const {
+  // The window keyframes and everything they observe, with every factor of
+  // those.
+  const int n = static_cast<int>(keyframes_.size());
+  std::vector<char> object_free(objects_.size(), 0);
+  std::vector<char> point_free(points_.size(), 0);
+  std::vector<int> active;
+  for (int k = first_free; k < n; ++k) {
+    for (int f : keyframes_[k]->factors) {
+      const FactorRecord& record = problem_.factor(f);
+      if (!InMap(record)) continue;
+      active.push_back(f);
+      if (record.object >= 0) object_free[record.object] = 1;
+      if (record.point >= 0) point_free[record.point] = 1;
+    }
+  }
+  for (size_t o = 0; o < objects_.size(); ++o) {
+    if (!object_free[o]) continue;
+    for (const ObjectObservation& observation : objects_[o]->observations) {
+      if (observation.factor >= 0) active.push_back(observation.factor);
+    }
+  }
+  for (size_t p = 0; p < points_.size(); ++p) {
+    if (!point_free[p]) continue;
+    for (int f : points_[p]->factors) {
+      if (InMap(problem_.factor(f))) active.push_back(f);
+    }
+  }
+  return active;
+}
+
+std::vector<int> FactorGraph::WindowFactors(int first_free) const {
+  std::vector<int> active;
+  std::vector<int> points;
+  std::vector<int> objects;
+  for (int k = first_free; k < static_cast<int>(keyframes_.size()); ++k) {
+    for (int f : keyframes_[k]->factors) {
+      const FactorRecord& record = problem_.factor(f);
+      if (!InMap(record) || record.marginalized) continue;
+      active.push_back(f);
+      if (record.point >= 0) points.push_back(record.point);
+      if (record.object >= 0) objects.push_back(record.object);
+    }
+  }
+  std::sort(objects.begin(), objects.end());
+  objects.erase(std::unique(objects.begin(), objects.end()), objects.end());
+  for (int o : objects) {
+    if (objects_[o]->prior_factor >= 0) {
+      active.push_back(objects_[o]->prior_factor);
+    }
+  }
+  // The points' priors from their observations that left the window.
+  std::sort(points.begin(), points.end());
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  for (int p : points) {
+    if (points_[p]->prior_factor >= 0)
+      active.push_back(points_[p]->prior_factor);
+  }
+  return active;
+}
+
+std::vector<int> FactorGraph::AllFactors() const {
+  std::vector<int> active;
+  for (int f = 0; f < problem_.size(); ++f) {
+    const FactorRecord& record = problem_.factor(f);
+    if (InMap(record) && !record.summary) active.push_back(f);
+  }
+  return active;
+}
+
+int FactorGraph::SetKeyframeFreedom(int first_free, int gauge) {
+  // Every keyframe the problem holds appears in one of its factors.
+  std::vector<int> held;
+  for (int f : problem_.in_problem()) {
+    const FactorRecord& record = problem_.factor(f);
+    if (record.keyframe >= 0) held.push_back(record.keyframe);
+    if (record.keyframe2 >= 0) held.push_back(record.keyframe2);
+  }
+  std::sort(held.begin(), held.end());
+  held.erase(std::unique(held.begin(), held.end()), held.end());
+  int free_keyframes = 0;
+  for (int k : held) {
+    KeyframeState& kf = *keyframes_[k];
+    const bool free = k >= first_free && k != gauge;
+    problem_.SetConstant(kf.q, !free);
+    problem_.SetConstant(kf.t, !free);
+    free_keyframes += free ? 1 : 0;
+  }
+  return free_keyframes;
+}
+
+void FactorGraph::SolveWindow(int first, SolveOutcome* outcome) {
+  const WindowPolicy policy = options_.window_policy;
+  WindowProblem::SyncOptions sync;
+  // The gauge: the first keyframe while in the window; under drop the
+  // oldest window keyframe.
+  int gauge = 0;
+  if (policy == WindowPolicy::kCondition) {
+    problem_.Sync(ConditionedFactors(first), sync);
+  } else {
+    while (marginalized_until_ < first) LeaveWindow(marginalized_until_++);
+    sync.with_prior = policy == WindowPolicy::kMarginalize;
+    problem_.Sync(WindowFactors(first), sync);
+    if (policy == WindowPolicy::kDrop) gauge = first;
+  }
+  Solve(options_.max_iterations, SetKeyframeFreedom(first, gauge), outcome);
+}
+
+Status FactorGraph::SolveBatch(SolveOutcome* outcome) {
+  if (!options_.keep_history && marginalized_until_ > 0) {
+    return Status::Error(
+        "no batch solve: keyframes left the window and their factors were "
+        "freed (set BackendOptions::keep_history to keep them)");
+  }
+  WindowProblem::SyncOptions sync;
+  sync.with_marginalized = true;
+  problem_.Sync(AllFactors(), sync);
+  Solve(options_.batch_max_iterations, SetKeyframeFreedom(0, 0), outcome);
+  return Status::Ok();
+}
+
+void FactorGraph::Solve(int max_iterations,
+                        int free_keyframes,
+                        SolveOutcome* outcome) {
+  ceres::Solver::Summary summary;
+  outcome->solved = problem_.NumResidualBlocks() > 0;
+  if (outcome->solved) {
+    ceres::Solver::Options solver_options;
+    solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    solver_options.max_num_iterations = max_iterations;
+    solver_options.num_threads = options_.num_threads;
+    solver_options.logging_type = ceres::SILENT;
+    problem_.Solve(solver_options, &summary);
+  }
+  outcome->usable = summary.IsSolutionUsable();
+  outcome->converged = summary.termination_type == ceres::CONVERGENCE;
+  outcome->iterations = static_cast<int>(summary.iterations.size());
+  outcome->initial_cost = summary.initial_cost;
+  outcome->final_cost = summary.final_cost;
+  outcome->message = summary.message;
+  outcome->free_keyframes = free_keyframes;
+  outcome->residual_blocks = problem_.NumResidualBlocks();
+  outcome->parameter_blocks = problem_.NumParameterBlocks();
+  outcome->prior_size = problem_.prior_in_problem()
+                            ? static_cast<int>(problem_.prior()->A().cols())
+                            : 0;
+}
+
+}  // namespace symba::internal

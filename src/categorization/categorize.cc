@@ -95,18 +95,6 @@ Status ValidateHypotheses(const std::vector<PoseHypothesis>& hypotheses) {
   return Status::Ok();
 }
 
-Status ValidatePrior(const ClassPrior& prior) {
-  if (!prior.axis_o.allFinite()) {
-    return Status::Error("categorize: class prior axis is not finite");
-  }
-  if (prior.order < 0 || prior.order == 1) {
-    return Status::Error("categorize: class prior order " +
-                         std::to_string(prior.order) +
-                         " is neither 0 (unknown) nor >= 2");
-  }
-  return Status::Ok();
-}
-
 // Step 1: the highest-weight hypothesis (ties: lowest index) among those
 // with at least min_points usable hypotheses (itself included) within
 // min_axis_angle of rotation; if none has, the highest-weight one.
@@ -956,8 +944,8 @@ Status Categorize(const std::vector<PoseHypothesis>& hypotheses,
   Status status = options.Validate();
   if (!status.ok()) return status;
   if (prior != nullptr) {
-    status = ValidatePrior(*prior);
-    if (!status.ok()) return status;
+    status = prior->Validate();
+    if (!status.ok()) return Status::Error("categorize: " + status.message());
   }
   status = ValidateHypotheses(hypotheses);
   if (!status.ok()) return status;

@@ -278,16 +278,12 @@ Status Backend::Create(const BackendOptions& options,
           "camera intrinsics: fx, fy must be positive, all finite");
     }
   }
-  // Categorize's own checks on every prior (a one-hypothesis detection
-  // always passes the rest): a bad prior must fail here, not in AddKeyframe
-  // after the keyframe was added.
+  // A bad prior must fail here, not in AddKeyframe after the keyframe was
+  // added; the categorization then trusts the priors (and the options).
   for (const auto& [class_name, prior] : class_priors) {
-    CategorizedDetection scratch;
-    status = Categorize(
-        {PoseHypothesis{}}, options.categorization, &prior, &scratch);
+    status = prior.Validate();
     if (!status.ok()) {
-      return Status::Error("class prior \"" + class_name +
-                           "\": " + status.message());
+      return Status::Error("class \"" + class_name + "\": " + status.message());
     }
   }
   backend->reset(

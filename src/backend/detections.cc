@@ -8,6 +8,7 @@
 
 #include "backend/backend_impl.h"
 #include "backend/detection_observations.h"
+#include "categorization/categorize_with_valid_options.h"
 
 namespace symba {
 
@@ -28,10 +29,12 @@ Status Backend::Impl::CategorizeDetections(const KeyframeInput& input) {
   }
   for (size_t d = 0; d < input.detections.size(); ++d) {
     const DetectionInput& det = input.detections[d];
-    Status status = Categorize(det.hypotheses,
-                               options_.categorization,
-                               PriorOf(det.class_name),
-                               &categorized_[d]);
+    // Create validated the options and the priors.
+    Status status =
+        categorization::CategorizeWithValidOptions(det.hypotheses,
+                                                   options_.categorization,
+                                                   PriorOf(det.class_name),
+                                                   &categorized_[d]);
     if (!status.ok()) {
       return Status::Error("keyframe " + std::to_string(input.id) +
                            ": detection " + DetectionId(input, d) + ": " +

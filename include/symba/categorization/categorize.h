@@ -75,6 +75,7 @@
 
 #include <Eigen/Core>
 
+#include "symba/categorization/class_prior.h"
 #include "symba/categorization/symmetry_type.h"
 #include "symba/common/status.h"
 #include "symba/detection/pose_hypothesis.h"
@@ -136,14 +137,6 @@ struct CategorizationOptions {
   Status Validate() const;
 };
 
-// What the log header's `classes` entry says about a class (log-format.md).
-struct ClassPrior {
-  SymmetryType symmetry = SymmetryType::kAsymmetric;
-  int order = 0;  // discrete: symmetry order (>= 2); 0 = unknown
-  // Symmetry axis in the object frame; zero = unknown. Need not be unit.
-  Eigen::Vector3d axis_o = Eigen::Vector3d::Zero();
-};
-
 // One mode of a discrete detection.
 struct AngleCluster {
   double theta = 0.0;        // rad, (-pi, pi]; see the header comment
@@ -184,7 +177,8 @@ struct CategorizedDetection {
 // (its vectors are reused). Returns an error, naming the hypothesis and what
 // is wrong, for an empty set, a non-finite or non-unit (|1 - |q|| > 1e-3)
 // quaternion, a non-finite translation, a weight that is not positive and
-// finite, invalid options or an invalid prior; `out` is then reset.
+// finite, invalid options (CategorizationOptions::Validate) or an invalid
+// prior (ClassPrior::Validate); `out` is then reset.
 Status Categorize(const std::vector<PoseHypothesis>& hypotheses,
                   const CategorizationOptions& options,
                   const ClassPrior* prior,

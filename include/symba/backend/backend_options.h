@@ -7,7 +7,7 @@
 
 #include "symba/categorization/categorize.h"
 #include "symba/common/status.h"
-#include "symba/factors/max_mixture.h"
+#include "symba/factors/mixture_options.h"
 #include "symba/geometry/angle.h"
 
 namespace symba {

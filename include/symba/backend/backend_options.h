@@ -5,10 +5,10 @@
 
 #include <string>
 
-#include "symba/categorization/categorize.h"
+#include "symba/categorization/categorization_options.h"
 #include "symba/common/status.h"
 #include "symba/factors/mixture_options.h"
-#include "symba/geometry/angle.h"
+#include "symba/geometry/pi.h"
 
 namespace symba {
 

@@ -320,5 +320,73 @@ TEST(OptionTable, BackendDocsTableIsTheTable) {
          "replace it with the expected text above";
 }
 
+// The cells of a markdown row: "| a | b |" -> {"a", "b"}.
+std::vector<std::string> Cells(const std::string& row) {
+  std::vector<std::string> cells;
+  std::stringstream in(row.substr(1));
+  std::string cell;
+  while (std::getline(in, cell, '|')) {
+    const size_t first = cell.find_first_not_of(' ');
+    const size_t last = cell.find_last_not_of(' ');
+    if (first != std::string::npos) {
+      cells.push_back(cell.substr(first, last - first + 1));
+    }
+  }
+  return cells;
+}
+
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    const size_t first = item.find_first_not_of(" `");
+    const size_t last = item.find_last_not_of(" `");
+    items.push_back(item.substr(first, last - first + 1));
+  }
+  return items;
+}
+
+// A default as docs/categorization.md writes it: angles in degrees without
+// a unit, metres with " m".
+std::string CategorizationDocsDefault(const Field& field) {
+  const OptionValue value = field.get(BackendOptions());
+  if (field.unit == "rad") {
+    return FormatOptionValue(std::round(std::get<double>(value) * 180 / kPi));
+  }
+  const std::string text = FormatOptionValue(value);
+  if (field.type == OptionType::kDouble &&
+      text.find('.') == std::string::npos &&
+      text.find('e') == std::string::npos) {
+    return field.unit.empty() ? text + ".0" : text + " " + field.unit;
+  }
+  return field.unit.empty() ? text : text + " " + field.unit;
+}
+
+// docs/categorization.md's table of defaults ("| `a`, `b` | 20, 0.7 |")
+// names table fields with their defaults.
+TEST(OptionTable, CategorizationDocsDefaultsAreTheTable) {
+  std::ifstream in(SYMBA_DOCS_DIR "/categorization.md");
+  std::string line;
+  while (std::getline(in, line) && line != "| option | default | why |") {
+  }
+  ASSERT_TRUE(std::getline(in, line));  // |---|---|---|
+  int checked = 0;
+  while (std::getline(in, line) && !line.empty()) {
+    const std::vector<std::string> cells = Cells(line);
+    ASSERT_GE(cells.size(), 2u) << line;
+    const std::vector<std::string> names = SplitList(cells[0]);
+    const std::vector<std::string> defaults = SplitList(cells[1]);
+    ASSERT_EQ(names.size(), defaults.size()) << line;
+    for (size_t i = 0; i < names.size(); ++i) {
+      const Field* field = FindOption(Table(), "categorization." + names[i]);
+      ASSERT_NE(field, nullptr) << names[i];
+      EXPECT_EQ(defaults[i], CategorizationDocsDefault(*field)) << names[i];
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 16);
+}
+
 }  // namespace
 }  // namespace symba

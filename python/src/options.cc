@@ -2,9 +2,12 @@
 // PinholeIntrinsics: plain attributes with the C++ defaults; the enums are
 // strings ("symba", "marginalize", ...).
 #include <string>
+#include <variant>
+#include <vector>
 
 #include "bindings.h"
 #include "convert.h"
+#include "symba/backend/backend_option_table.h"
 #include "symba/backend/backend_options.h"
 #include "symba/categorization/categorize.h"
 #include "symba/geometry/pinhole_intrinsics.h"
@@ -12,155 +15,157 @@
 namespace symba::python {
 namespace {
 
-// A string property over an enum with the library's name/parse functions.
-template <typename Options, typename Enum>
-void EnumProperty(py::class_<Options>& cls,
-                  const char* name,
-                  Enum Options::*field,
-                  const char* (*to_name)(Enum),
-                  bool (*parse)(const std::string&, Enum*),
-                  const char* expected) {
-  cls.def_property(
-      name,
-      [field, to_name](const Options& options) {
-        return std::string(to_name(options.*field));
-      },
-      [field, parse, name, expected](Options& options,
-                                     const std::string& value) {
-        Enum parsed;
-        if (!parse(value, &parsed)) {
-          ThrowValueError(
-              name,
-              "unknown value \"" + value + "\" (expected " + expected + ")");
-        }
-        options.*field = parsed;
-      });
+// "\"symba\", \"mh\" or \"sh\"".
+std::string QuotedChoices(const std::vector<std::string>& choices) {
+  std::string text;
+  for (size_t i = 0; i < choices.size(); ++i) {
+    if (i > 0) text += i + 1 == choices.size() ? " or " : ", ";
+    text += "\"" + choices[i] + "\"";
+  }
+  return text;
+}
+
+// A property of the field's Python type (bool, int, float; an enum is its
+// name as a str), documented with the table's line.
+template <typename Options>
+void AddProperty(py::class_<Options>& cls,
+                 const OptionField<Options>& table_field) {
+  const OptionField<Options>* field = &table_field;
+  auto get = [field](const Options& o) {
+    return std::visit([](const auto& v) { return py::cast(v); }, field->get(o));
+  };
+  const char* name = field->name.c_str();
+  const char* doc = field->doc.c_str();
+  switch (field->type) {
+    case OptionType::kBool:
+      cls.def_property(
+          name, get, [field](Options& o, bool v) { field->set(v, &o); }, doc);
+      break;
+    case OptionType::kInt:
+      cls.def_property(
+          name, get, [field](Options& o, int v) { field->set(v, &o); }, doc);
+      break;
+    case OptionType::kDouble:
+      cls.def_property(
+          name, get, [field](Options& o, double v) { field->set(v, &o); }, doc);
+      break;
+    case OptionType::kEnum:
+      cls.def_property(
+          name,
+          get,
+          [field](Options& o, const std::string& v) {
+            if (!field->set(v, &o)) {
+              ThrowValueError(field->name,
+                              "unknown value \"" + v + "\" (expected " +
+                                  QuotedChoices(field->choices) + ")");
+            }
+          },
+          doc);
+      break;
+  }
+}
+
+// Every field of the table that is not in a nested struct (those are the
+// nested struct's own class).
+template <typename Options>
+void AddProperties(py::class_<Options>& cls,
+                   const OptionTable<Options>& table) {
+  for (const OptionField<Options>& field : table) {
+    if (!IsNested(field)) AddProperty(cls, field);
+  }
+}
+
+// Defaults, with any attribute as a keyword, and validate().
+template <typename Options>
+py::class_<Options> BindOptionsClass(py::module_& m,
+                                     const char* name,
+                                     const char* doc,
+                                     const char* init_doc,
+                                     const OptionTable<Options>& table) {
+  py::class_<Options> cls(m, name, doc);
+  cls.def(py::init([name](const py::kwargs& kwargs) {
+            return FromKwargs<Options>(kwargs, name);
+          }),
+          init_doc);
+  AddProperties(cls, table);
+  return cls;
+}
+
+template <typename Options>
+void AddValidate(py::class_<Options>& cls) {
+  cls.def(
+      "validate",
+      [](const Options& options) { ThrowIfError(options.Validate()); },
+      "Raises symba.Error naming the option that is out of range.");
 }
 
 void BindCategorizationOptions(py::module_& m) {
-  using O = CategorizationOptions;
-  py::class_<O>(m,
-                "CategorizationOptions",
-                "Thresholds of the categorisation (docs/categorization.md); "
-                "angles in radians, lengths in metres.")
-      .def(py::init([](const py::kwargs& kwargs) {
-             return FromKwargs<O>(kwargs, "CategorizationOptions");
-           }),
-           "Defaults, with any attribute given as a keyword.")
-      .def_readwrite("min_axis_angle", &O::min_axis_angle)
-      .def_readwrite("axis_vote_angle", &O::axis_vote_angle)
-      .def_readwrite("swing_tolerance", &O::swing_tolerance)
-      .def_readwrite("cluster_eps", &O::cluster_eps)
-      .def_readwrite("min_points", &O::min_points)
-      .def_readwrite("merge_close_clusters", &O::merge_close_clusters)
-      .def_readwrite("rescue_min_points", &O::rescue_min_points)
-      .def_readwrite("max_cluster_extent", &O::max_cluster_extent)
-      .def_readwrite("min_cluster_separation", &O::min_cluster_separation)
-      .def_readwrite("separation_ratio", &O::separation_ratio)
-      .def_readwrite("max_noise_fraction", &O::max_noise_fraction)
-      .def_readwrite("empty_gap_angle", &O::empty_gap_angle)
-      .def_readwrite("min_empty_fraction", &O::min_empty_fraction)
-      .def_readwrite("asymmetric_inlier_angle", &O::asymmetric_inlier_angle)
-      .def_readwrite("translation_gate", &O::translation_gate)
-      .def_readwrite("prior_snap_angle", &O::prior_snap_angle)
-      .def_readwrite("read_one_mode_with_prior", &O::read_one_mode_with_prior)
-      .def(
-          "validate",
-          [](const O& options) { ThrowIfError(options.Validate()); },
-          "Raises symba.Error naming the option that is out of range.");
+  auto cls = BindOptionsClass<CategorizationOptions>(
+      m,
+      "CategorizationOptions",
+      "Thresholds of the categorisation (docs/categorization.md); angles in "
+      "radians, lengths in metres.",
+      "Defaults, with any attribute given as a keyword.",
+      CategorizationOptionTable());
+  AddValidate(cls);
 }
 
 void BindMixtureOptions(py::module_& m) {
-  using O = MixtureOptions;
-  py::class_<O>(m, "MixtureOptions", "The max-mixtures' null hypothesis.")
-      .def(py::init([](const py::kwargs& kwargs) {
-        return FromKwargs<O>(kwargs, "MixtureOptions");
-      }))
-      .def_readwrite("use_null_hypothesis", &O::use_null_hypothesis)
-      .def_readwrite("null_weight", &O::null_weight)
-      .def_readwrite("null_sigma_scale", &O::null_sigma_scale);
+  BindOptionsClass<MixtureOptions>(m,
+                                   "MixtureOptions",
+                                   "The max-mixtures' null hypothesis.",
+                                   "Defaults, with any attribute given as a "
+                                   "keyword.",
+                                   MixtureOptionTable());
 }
 
 void BindBackendOptions(py::module_& m) {
   using O = BackendOptions;
-  py::class_<O> cls(m,
-                    "BackendOptions",
-                    "Every option of the backend with the C++ default "
-                    "(docs/backend.md); metres, radians.");
-  cls.def(py::init([](const py::kwargs& kwargs) {
-            return FromKwargs<O>(kwargs, "BackendOptions");
-          }),
-          "Defaults, with any attribute given as a keyword, e.g. "
-          "BackendOptions(method=\"mh\", window_size=5).");
-  EnumProperty(cls,
-               "method",
-               &O::method,
-               &MethodName,
-               &ParseMethod,
-               "\"symba\", \"mh\" or \"sh\"");
-  cls.def_readwrite("window_size", &O::window_size);
-  EnumProperty(cls,
-               "window_policy",
-               &O::window_policy,
-               &WindowPolicyName,
-               &ParseWindowPolicy,
-               "\"marginalize\", \"condition\" or \"drop\"");
-  cls.def_readwrite("marginalize_min_margin", &O::marginalize_min_margin)
-      .def_readwrite("marginalize_rival_distance",
-                     &O::marginalize_rival_distance);
-  EnumProperty(cls,
-               "chain_prior",
-               &O::chain_prior,
-               &ChainPriorName,
-               &ParseChainPrior,
-               "\"conditional\" or \"marginal\"");
-  cls.def_readwrite("max_iterations", &O::max_iterations)
-      .def_readwrite("batch_max_iterations", &O::batch_max_iterations)
-      .def_readwrite("num_threads", &O::num_threads)
-      .def_readwrite("hypothesis_sigma_t", &O::hypothesis_sigma_t)
-      .def_readwrite("hypothesis_sigma_r", &O::hypothesis_sigma_r)
-      .def_readwrite("gamma", &O::gamma)
-      .def_readwrite("axis_sigma", &O::axis_sigma)
-      .def_readwrite("merge_modes", &O::merge_modes);
-  EnumProperty(cls,
-               "object_loss",
-               &O::object_loss,
-               &LossName,
-               &ParseLoss,
-               "\"none\", \"huber\" or \"cauchy\"");
-  cls.def_readwrite("object_loss_scale", &O::object_loss_scale)
-      .def_readwrite("mixture", &O::mixture)
-      .def_readwrite("frontend_sigma_t", &O::frontend_sigma_t)
-      .def_readwrite("frontend_sigma_r", &O::frontend_sigma_r)
-      .def_readwrite("point_sigma_px", &O::point_sigma_px)
-      .def_readwrite("point_loss_scale", &O::point_loss_scale)
-      .def_readwrite("point_depth_sigma_relative",
-                     &O::point_depth_sigma_relative)
-      .def_readwrite("gate_position", &O::gate_position)
-      .def_readwrite("gate_axis", &O::gate_axis)
-      .def_readwrite("gate_rotation", &O::gate_rotation)
-      .def_readwrite("gate_angle", &O::gate_angle)
-      .def_readwrite("reanchor_angle", &O::reanchor_angle)
-      .def_readwrite("confirm_keyframes", &O::confirm_keyframes)
-      .def_readwrite("tentative_timeout", &O::tentative_timeout)
-      .def_readwrite("gate_sigmas", &O::gate_sigmas)
-      .def_readwrite("estimate_noise", &O::estimate_noise)
-      .def_readwrite("noise_window", &O::noise_window)
-      .def_readwrite("noise_min_samples", &O::noise_min_samples)
-      .def_readwrite("noise_update_ratio", &O::noise_update_ratio)
-      .def_readwrite("uncalibrated_sigma_t", &O::uncalibrated_sigma_t)
-      .def_readwrite("uncalibrated_sigma_r", &O::uncalibrated_sigma_r)
-      .def_readwrite("min_support", &O::min_support)
-      .def_readwrite("min_support_views", &O::min_support_views)
-      .def_readwrite("upgrade_evidence", &O::upgrade_evidence)
-      .def_readwrite("upgrade_min_fraction", &O::upgrade_min_fraction)
-      .def_readwrite("max_upgrade_order", &O::max_upgrade_order)
-      .def_readwrite("upgrade_angle_tolerance", &O::upgrade_angle_tolerance)
-      .def_readwrite("categorization", &O::categorization)
-      .def(
-          "validate",
-          [](const O& options) { ThrowIfError(options.Validate()); },
-          "Raises symba.Error naming the option that is out of range.");
+  auto cls = BindOptionsClass<O>(
+      m,
+      "BackendOptions",
+      "Every option of the backend with the C++ default (docs/backend.md); "
+      "metres, radians.",
+      "Defaults, with any attribute given as a keyword, e.g. "
+      "BackendOptions(method=\"mh\", window_size=5).",
+      BackendOptionTable());
+  cls.def_readwrite("mixture", &O::mixture)
+      .def_readwrite("categorization", &O::categorization);
+  AddValidate(cls);
+}
+
+// The table as dicts, for the tests: name, type, unit, default, range
+// (text, low, high, open ends, infinity), choices and doc.
+py::list OptionTableForPython() {
+  py::list rows;
+  const BackendOptions defaults;
+  for (const OptionField<BackendOptions>& field : BackendOptionTable()) {
+    static const char* const kTypes[] = {"bool", "int", "float", "enum"};
+    py::dict row;
+    row["name"] = field.name;
+    row["type"] = kTypes[static_cast<int>(field.type)];
+    row["unit"] = field.unit;
+    row["default"] = std::visit([](const auto& v) { return py::cast(v); },
+                                field.get(defaults));
+    row["default_text"] = FormatOptionValue(field.get(defaults));
+    row["range"] = field.IsNumeric() ? field.range.Text() : "";
+    row["low"] = field.range.low;
+    row["high"] = field.range.high;
+    row["low_open"] = field.range.low_open;
+    row["high_open"] = field.range.high_open;
+    row["allow_infinity"] = field.range.allow_infinity;
+    row["choices"] = field.choices;
+    row["doc"] = field.doc;
+    rows.append(row);
+  }
+  return rows;
+}
+
+void BindOptionTable(py::module_& m) {
+  m.def("_option_table",
+        &OptionTableForPython,
+        "Every option of BackendOptions and its nested structs, as the "
+        "C++ table has it (for the tests; not part of the API).");
 }
 
 void BindClassPrior(py::module_& m) {
@@ -229,6 +234,7 @@ void BindOptions(py::module_& m) {
   BindBackendOptions(m);
   BindClassPrior(m);
   BindIntrinsics(m);
+  BindOptionTable(m);
 }
 
 }  // namespace symba::python

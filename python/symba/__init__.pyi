@@ -52,6 +52,7 @@ class BackendOptions:
     marginalize_min_margin: float
     marginalize_rival_distance: float
     chain_prior: Literal["conditional", "marginal"]
+    keep_history: bool
     max_iterations: int
     batch_max_iterations: int
     num_threads: int

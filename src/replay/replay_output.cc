@@ -1,10 +1,13 @@
 #include "symba/replay/replay_output.h"
 
 #include <optional>
+#include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 #include "io/json_writer.h"
+#include "symba/backend/backend_option_table.h"
 
 namespace symba {
 namespace {
@@ -61,6 +64,53 @@ void WriteNoise(const std::vector<ClassNoiseEstimate>& noise,
     json->EndObject();
   }
   json->EndArray();
+}
+
+void WriteOptionValue(const OptionValue& value, JsonWriter* json) {
+  if (const bool* b = std::get_if<bool>(&value)) {
+    json->Bool(*b);
+  } else if (const int* i = std::get_if<int>(&value)) {
+    json->Int(*i);
+  } else if (const double* d = std::get_if<double>(&value)) {
+    json->Double(*d);
+  } else {
+    json->String(std::get<std::string>(value));
+  }
+}
+
+// The nested struct a table name is in ("mixture" for
+// "mixture.null_weight"; empty for a field of BackendOptions itself).
+std::string GroupOf(const std::string& name) {
+  const size_t dot = name.find('.');
+  return dot == std::string::npos ? std::string() : name.substr(0, dot);
+}
+
+std::string MemberOf(const std::string& name) {
+  const size_t dot = name.find('.');
+  return dot == std::string::npos ? name : name.substr(dot + 1);
+}
+
+// "options": every field of the backend's option structs under its own
+// name (backend_option_table.h), a nested struct as an object; then the
+// keys older readers know: "window", "threads" and "null_hypothesis".
+void WriteOptions(const BackendOptions& options, JsonWriter* json) {
+  json->Key("options").BeginObject();
+  std::string open_group;
+  for (const OptionField<BackendOptions>& field : BackendOptionTable()) {
+    const std::string group = GroupOf(field.name);
+    if (group != open_group) {
+      if (!open_group.empty()) json->EndObject();
+      if (!group.empty()) json->Key(group).BeginObject();
+      open_group = group;
+    }
+    json->Key(MemberOf(field.name));
+    WriteOptionValue(field.get(options), json);
+  }
+  if (!open_group.empty()) json->EndObject();
+  json->Member("window", options.window_size)
+      .Member("threads", options.num_threads)
+      .Member("null_hypothesis", options.mixture.use_null_hypothesis)
+      .EndObject();
 }
 
 }  // namespace
@@ -135,42 +185,7 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
       .EndObject()
       .EndObject();
   WriteNoise(result.noise, &json);
-  json.Key("options")
-      .BeginObject()
-      .Member("window", b.window_size)
-      .Member("window_policy", WindowPolicyName(b.window_policy))
-      .Member("chain_prior", ChainPriorName(b.chain_prior))
-      .Member("marginalize_min_margin", b.marginalize_min_margin)
-      .Member("marginalize_rival_distance", b.marginalize_rival_distance)
-      .Member("max_iterations", b.max_iterations)
-      .Member("batch_max_iterations", b.batch_max_iterations)
-      .Member("threads", b.num_threads)
-      .Member("hypothesis_sigma_t", b.hypothesis_sigma_t)
-      .Member("hypothesis_sigma_r", b.hypothesis_sigma_r)
-      .Member("gamma", b.gamma)
-      .Member("axis_sigma", b.axis_sigma)
-      .Member("object_loss", LossName(b.object_loss))
-      .Member("object_loss_scale", b.object_loss_scale)
-      .Member("null_hypothesis", b.mixture.use_null_hypothesis)
-      .Member("frontend_sigma_t", b.frontend_sigma_t)
-      .Member("frontend_sigma_r", b.frontend_sigma_r)
-      .Member("point_sigma_px", b.point_sigma_px)
-      .Member("point_depth_sigma_relative", b.point_depth_sigma_relative)
-      .Member("gate_position", b.gate_position)
-      .Member("gate_axis", b.gate_axis)
-      .Member("gate_rotation", b.gate_rotation)
-      .Member("gate_angle", b.gate_angle)
-      .Member("confirm_keyframes", b.confirm_keyframes)
-      .Member("tentative_timeout", b.tentative_timeout)
-      .Member("gate_sigmas", b.gate_sigmas)
-      .Member("estimate_noise", b.estimate_noise)
-      .Member("uncalibrated_sigma_t", b.uncalibrated_sigma_t)
-      .Member("uncalibrated_sigma_r", b.uncalibrated_sigma_r)
-      .Member("min_support", b.min_support)
-      .Member("upgrade_evidence", b.upgrade_evidence)
-      .Member("upgrade_min_fraction", b.upgrade_min_fraction)
-      .Member("max_upgrade_order", b.max_upgrade_order)
-      .EndObject();
+  WriteOptions(b, &json);
   json.EndObject();
   out.push_back('\n');
   return out;

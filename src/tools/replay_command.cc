@@ -6,10 +6,13 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "symba/backend/backend_option_table.h"
+#include "symba/common/check.h"
 #include "symba/export/refined_bop_results.h"
 #include "symba/geometry/angle.h"
 #include "symba/io/file_output.h"
@@ -18,6 +21,7 @@
 #include "symba/replay/replay.h"
 #include "symba/replay/replay_output.h"
 #include "tools/commands.h"
+#include "tools/option_flags.h"
 
 namespace {
 
@@ -27,35 +31,116 @@ constexpr double kDeg = symba::kPi / 180.0;
 struct ReplayFlags {
   std::string log;
   std::string out;
-  std::string method = "symba";
-  std::string window_policy = "marginalize";
-  std::string chain_prior = "conditional";
   std::string mode = "window";
-  std::string loss;
   std::string bop_out;  // --bop-out: the refined poses as BOP results
   int bop_scene = -1;   // --bop-scene; -1: the log header's
   bool quiet = false;
   bool final_batch = false;
   bool g2o_isotropic = false;
-  double gate_axis_deg = 0.0;
-  double gate_rotation_deg = 0.0;
-  double gate_angle_deg = 0.0;
   symba::BackendOptions backend;
-
-  ReplayFlags() {
-    loss = symba::LossName(backend.object_loss);
-    gate_axis_deg = backend.gate_axis / kDeg;
-    gate_rotation_deg = backend.gate_rotation / kDeg;
-    gate_angle_deg = backend.gate_angle / kDeg;
-  }
 };
+
+// The flags `symba replay` had before they were made from the option table,
+// kept so that existing scripts work: another name for the field's flag.
+struct FlagAlias {
+  const char* field;
+  const char* flag;
+};
+
+constexpr FlagAlias kFlagAliases[] = {
+    {"window_size", "--window"},
+    {"window_policy", "--window-policy"},
+    {"marginalize_min_margin", "--marginalize-min-margin"},
+    {"marginalize_rival_distance", "--marginalize-rival-distance"},
+    {"chain_prior", "--chain-prior"},
+    {"max_iterations", "--max-iterations"},
+    {"batch_max_iterations", "--batch-max-iterations"},
+    {"num_threads", "--threads"},
+    {"hypothesis_sigma_t", "--hypothesis-sigma-t"},
+    {"hypothesis_sigma_r", "--hypothesis-sigma-r"},
+    {"axis_sigma", "--axis-sigma"},
+    {"merge_modes", "--merge-modes"},
+    {"object_loss", "--loss"},
+    {"object_loss_scale", "--loss-scale"},
+    {"frontend_sigma_t", "--frontend-sigma-t"},
+    {"frontend_sigma_r", "--frontend-sigma-r"},
+    {"point_sigma_px", "--point-sigma"},
+    {"point_depth_sigma_relative", "--point-depth-sigma"},
+    {"gate_position", "--gate-position"},
+    {"confirm_keyframes", "--confirm-keyframes"},
+    {"tentative_timeout", "--tentative-timeout"},
+    {"gate_sigmas", "--gate-sigmas"},
+    {"estimate_noise", "--estimate-noise"},
+    {"uncalibrated_sigma_t", "--uncalibrated-sigma-t"},
+    {"uncalibrated_sigma_r", "--uncalibrated-sigma-r"},
+    {"min_support", "--min-support"},
+    {"upgrade_evidence", "--upgrade-evidence"},
+    {"upgrade_min_fraction", "--upgrade-min-fraction"},
+    {"max_upgrade_order", "--max-upgrade-order"},
+};
+
+// The old angle gates, in degrees (the fields and their flags are in rad).
+constexpr FlagAlias kDegreeAliases[] = {
+    {"gate_axis", "--gate-axis"},
+    {"gate_rotation", "--gate-rotation"},
+    {"gate_angle", "--gate-angle"},
+};
+
+// "--window_size,--window": the field's flag and its old names.
+std::string FlagNames(const std::string& field) {
+  std::string names = symba::tools::FlagName(field);
+  for (const FlagAlias& alias : kFlagAliases) {
+    if (field == alias.field) names += std::string(",") + alias.flag;
+  }
+  return names;
+}
+
+const symba::OptionField<symba::BackendOptions>& TableField(
+    const std::string& name) {
+  const symba::OptionField<symba::BackendOptions>* field =
+      symba::FindOption(symba::BackendOptionTable(), name);
+  SYMBA_CHECK(field != nullptr) << "no option " << name;
+  return *field;
+}
+
+// "--gate-axis 20": the field in degrees.
+void AddDegreeAlias(CLI::App* cmd, const FlagAlias& alias, ReplayFlags* f) {
+  const symba::OptionField<symba::BackendOptions>* field =
+      &TableField(alias.field);
+  symba::BackendOptions* options = &f->backend;
+  const double default_deg = std::get<double>(field->get(*options)) / kDeg;
+  char shown[32];
+  std::snprintf(shown, sizeof shown, "%.6g", default_deg);
+  cmd->add_option_function<double>(
+         alias.flag,
+         [field, options](const double& degrees) {
+           field->set(degrees * kDeg, options);
+         },
+         "the same as --" + field->name + " in degrees")
+      ->check(symba::tools::RangeValidator(
+          symba::tools::ScaledRange(field->range, kDeg)))
+      ->default_str(shown);
+}
+
+// Every backend option from the table, then the old flags that are not
+// just another name (the gates in degrees, --null-hypothesis).
+void AddBackendFlags(CLI::App* cmd, ReplayFlags* f) {
+  // An alias that names no field aborts every start (any test catches it).
+  for (const FlagAlias& alias : kFlagAliases) TableField(alias.field);
+  for (const auto& field : symba::BackendOptionTable()) {
+    symba::tools::AddOptionFlag(cmd, FlagNames(field.name), field, &f->backend);
+  }
+  for (const FlagAlias& alias : kDegreeAliases) AddDegreeAlias(cmd, alias, f);
+  cmd->add_flag("--null-hypothesis",
+                f->backend.mixture.use_null_hypothesis,
+                "the same as --mixture.use_null_hypothesis true");
+}
 
 CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
   CLI::App* cmd = app->add_subcommand(
       "replay",
       "Replay a log v1 (or optimise a .g2o pose graph) and write "
       "trajectory.tum, objects.json, associations.csv and summary.json");
-  symba::BackendOptions& b = f->backend;
   cmd->add_option(
          "LOG", f->log, "log v1 file (JSON Lines), or a .g2o 3-D pose graph")
       ->required();
@@ -63,9 +148,6 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                   f->out,
                   "output directory (replaced atomically, parent must exist)")
       ->required();
-  cmd->add_option("--method", f->method, "symba, mh or sh")
-      ->check(CLI::IsMember({"symba", "mh", "sh"}))
-      ->capture_default_str();
   cmd->add_option("--mode",
                   f->mode,
                   "window: optimise the window after each keyframe; batch: "
@@ -76,152 +158,7 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                 f->final_batch,
                 "window mode: one batch solve over every factor after the "
                 "last keyframe");
-  cmd->add_option("--window", b.window_size, "keyframes free in a window")
-      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
-      ->capture_default_str();
-  cmd->add_option("--window-policy",
-                  f->window_policy,
-                  "keyframes leaving the window: marginalize (into priors; "
-                  "bounded work), condition (held constant with all their "
-                  "factors) or drop")
-      ->check(CLI::IsMember({"marginalize", "condition", "drop"}))
-      ->capture_default_str();
-  cmd->add_option("--chain-prior",
-                  f->chain_prior,
-                  "marginalize: a leaving keyframe's pose is held at its "
-                  "estimate (conditional) or eliminated by the Schur "
-                  "complement (marginal)")
-      ->check(CLI::IsMember({"conditional", "marginal"}))
-      ->capture_default_str();
-  cmd->add_option("--marginalize-min-margin",
-                  b.marginalize_min_margin,
-                  "marginalize: least cost lead (nats) of a max-mixture's "
-                  "winner over every rival for the edge to enter a prior")
-      ->check(CLI::NonNegativeNumber & symba::tools::FiniteNumber())
-      ->capture_default_str();
-  cmd->add_option("--marginalize-rival-distance",
-                  b.marginalize_rival_distance,
-                  "marginalize: whitened residual distance beyond which a "
-                  "component is the winner's rival")
-      ->check(CLI::NonNegativeNumber & symba::tools::FiniteNumber())
-      ->capture_default_str();
-  cmd->add_option("--threads", b.num_threads, "Ceres threads")
-      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
-      ->capture_default_str();
-  cmd->add_option(
-         "--max-iterations", b.max_iterations, "solver iterations per window")
-      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
-      ->capture_default_str();
-  cmd->add_option("--batch-max-iterations",
-                  b.batch_max_iterations,
-                  "solver iterations of a batch solve")
-      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
-      ->capture_default_str();
-  cmd->add_option(
-         "--hypothesis-sigma-t",
-         b.hypothesis_sigma_t,
-         "hypothesis translation noise when a detection gives none (m)")
-      ->capture_default_str();
-  cmd->add_option("--hypothesis-sigma-r",
-                  b.hypothesis_sigma_r,
-                  "hypothesis rotation noise when a detection gives none (rad)")
-      ->capture_default_str();
-  cmd->add_option("--gamma", b.gamma, "weight of the continuous axis term")
-      ->capture_default_str();
-  cmd->add_option("--axis-sigma", b.axis_sigma, "measured axis noise (rad)")
-      ->capture_default_str();
-  cmd->add_option("--loss", f->loss, "robust loss on object edges")
-      ->check(CLI::IsMember({"none", "huber", "cauchy"}))
-      ->capture_default_str();
-  cmd->add_option("--loss-scale",
-                  b.object_loss_scale,
-                  "object loss scale (whitened units)")
-      ->capture_default_str();
-  cmd->add_option("--merge-modes",
-                  b.merge_modes,
-                  "symba: one component per mode at its mean (true) or one "
-                  "per hypothesis (false, the paper)")
-      ->capture_default_str();
-  cmd->add_flag("--null-hypothesis",
-                b.mixture.use_null_hypothesis,
-                "add a null-hypothesis component to every mixture");
-  cmd->add_option("--frontend-sigma-t",
-                  b.frontend_sigma_t,
-                  "front-end relative motion noise (m)")
-      ->capture_default_str();
-  cmd->add_option("--frontend-sigma-r",
-                  b.frontend_sigma_r,
-                  "front-end relative motion noise (rad)")
-      ->capture_default_str();
-  cmd->add_option(
-         "--point-sigma", b.point_sigma_px, "reprojection noise (pixels)")
-      ->capture_default_str();
-  cmd->add_option("--point-depth-sigma",
-                  b.point_depth_sigma_relative,
-                  "depth noise as a fraction of the depth (0: ignore depth)")
-      ->capture_default_str();
-  cmd->add_option(
-         "--gate-position", b.gate_position, "association gate on position (m)")
-      ->capture_default_str();
-  cmd->add_option("--gate-axis",
-                  f->gate_axis_deg,
-                  "association gate on the axis (degrees)")
-      ->capture_default_str();
-  cmd->add_option("--gate-rotation",
-                  f->gate_rotation_deg,
-                  "6-DoF association gate on rotation (degrees)")
-      ->capture_default_str();
-  cmd->add_option("--gate-angle",
-                  f->gate_angle_deg,
-                  "discrete angle association gate (degrees)")
-      ->capture_default_str();
-  cmd->add_option("--confirm-keyframes",
-                  b.confirm_keyframes,
-                  "keyframes with a detection before a new object enters the "
-                  "map (1: at once)")
-      ->capture_default_str();
-  cmd->add_option("--tentative-timeout",
-                  b.tentative_timeout,
-                  "keyframes without a detection after which a tentative "
-                  "object is dropped")
-      ->capture_default_str();
-  cmd->add_option("--gate-sigmas",
-                  b.gate_sigmas,
-                  "position gate in the detection's noise (0: gate-position "
-                  "only)")
-      ->capture_default_str();
-  cmd->add_option("--estimate-noise",
-                  b.estimate_noise,
-                  "estimate each class's detection noise from the data")
-      ->capture_default_str();
-  cmd->add_option("--uncalibrated-sigma-t",
-                  b.uncalibrated_sigma_t,
-                  "with --estimate-noise: the least noise a detection without "
-                  "a sigma is weighed with (m)")
-      ->capture_default_str();
-  cmd->add_option("--uncalibrated-sigma-r",
-                  b.uncalibrated_sigma_r,
-                  "the same for rotation (rad)")
-      ->capture_default_str();
-  cmd->add_option("--min-support",
-                  b.min_support,
-                  "drop a confirmed object detected in fewer than this "
-                  "fraction of the keyframes it was in view (0: never)")
-      ->capture_default_str();
-  cmd->add_option("--upgrade-evidence",
-                  b.upgrade_evidence,
-                  "symba: agreeing flips before an asymmetric object becomes "
-                  "discrete")
-      ->capture_default_str();
-  cmd->add_option("--upgrade-min-fraction",
-                  b.upgrade_min_fraction,
-                  "symba: the agreeing flips' least share of the keyframes "
-                  "that detected the object")
-      ->capture_default_str();
-  cmd->add_option("--max-upgrade-order",
-                  b.max_upgrade_order,
-                  "symba: the largest symmetry order a flip may show")
-      ->capture_default_str();
+  AddBackendFlags(cmd, f);
   cmd->add_flag("--g2o-isotropic",
                 f->g2o_isotropic,
                 "g2o input: replace each edge's information by SE-Sync's "
@@ -352,15 +289,8 @@ int RunReplay(const ReplayFlags& f) {
   }
   symba::ReplayOptions options;
   options.backend = f.backend;
-  symba::ParseMethod(f.method, &options.backend.method);
-  symba::ParseWindowPolicy(f.window_policy, &options.backend.window_policy);
-  symba::ParseChainPrior(f.chain_prior, &options.backend.chain_prior);
   symba::ParseReplayMode(f.mode, &options.mode);
   options.final_batch = f.final_batch;
-  symba::ParseLoss(f.loss, &options.backend.object_loss);
-  options.backend.gate_axis = f.gate_axis_deg * kDeg;
-  options.backend.gate_rotation = f.gate_rotation_deg * kDeg;
-  options.backend.gate_angle = f.gate_angle_deg * kDeg;
   const bool show_progress = !f.quiet && ::isatty(STDERR_FILENO);
   if (show_progress) {
     options.progress = [](int keyframes) {

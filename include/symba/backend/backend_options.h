@@ -5,10 +5,10 @@
 
 #include <string>
 
-#include "symba/categorization/categorize.h"
+#include "symba/categorization/categorization_options.h"
 #include "symba/common/status.h"
-#include "symba/factors/max_mixture.h"
-#include "symba/geometry/angle.h"
+#include "symba/factors/mixture_options.h"
+#include "symba/geometry/pi.h"
 
 namespace symba {
 
@@ -158,11 +158,13 @@ struct BackendOptions {
   // takes a detection only within gate_sigmas * sigma_t * sqrt(1 + 1/n)
   // (and gate_position). 0: gate_position only.
   double gate_sigmas = 5.0;
-  // Estimate each class's detection noise from the object edges' residuals
-  // (robust median of the last noise_window samples, used from
-  // noise_min_samples on) and build its edges with it; a class's edges are
-  // rebuilt when its estimate moves by more than the factor
-  // noise_update_ratio. A detection's own sigma is a lower bound.
+  // Estimate each class's detection noise from its detections placed with
+  // the front end's own poses (the chained odometry, never optimised;
+  // robust medians of the last noise_window samples, used from
+  // noise_min_samples on; docs/backend.md "Real detectors", 3) and build its
+  // edges with it; a class's edges are rebuilt when its estimate moves by
+  // more than the factor noise_update_ratio. A detection that gives its own
+  // sigma is weighed with it as given.
   bool estimate_noise = true;
   int noise_window = 500;
   int noise_min_samples = 20;

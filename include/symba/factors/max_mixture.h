@@ -62,22 +62,9 @@
 #include <ceres/sized_cost_function.h>
 #include <Eigen/Core>
 
+#include "symba/factors/mixture_options.h"
+
 namespace symba {
-
-struct MixtureOptions {
-  // Add the null-hypothesis component.
-  bool use_null_hypothesis = false;
-  // Its weight, relative to the hypotheses' weights normalised to sum 1.
-  double null_weight = 1e-3;
-  // Its standard deviations are the nearest component's times this (> 1).
-  double null_sigma_scale = 10.0;
-
-  bool IsValid() const {
-    return !use_null_hypothesis ||
-           (std::isfinite(null_weight) && null_weight > 0.0 &&
-            std::isfinite(null_sigma_scale) && null_sigma_scale > 1.0);
-  }
-};
 
 // Which component a max-mixture picked at some parameters.
 struct MixtureSelection {

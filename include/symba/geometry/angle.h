@@ -16,10 +16,9 @@
 
 #include <ceres/jet.h>
 
-namespace symba {
+#include "symba/geometry/pi.h"
 
-inline constexpr double kPi = 3.14159265358979323846;
-inline constexpr double kTwoPi = 2.0 * kPi;
+namespace symba {
 
 // The representative of `angle` (radians) in (-pi, pi]. Non-finite input is
 // returned unchanged (the caller validates input; this never loops).

@@ -1,0 +1,442 @@
+#include "symba/backend/backend_option_table.h"
+
+#include "symba/geometry/angle.h"
+
+namespace symba {
+namespace {
+
+OptionRange Positive() { return Above(0.0); }
+OptionRange NonNegative() { return AtLeast(0.0); }
+OptionRange Fraction() { return Between(0.0, 1.0); }
+OptionRange AngleBelowPi() { return AboveBelow(0.0, kPi); }
+OptionRange AngleBelowHalfPi() { return AboveBelow(0.0, kPi / 2); }
+
+// translation_gate: positive, infinity disables the gate.
+OptionRange PositiveOrInfinity() {
+  OptionRange range = Positive();
+  range.allow_infinity = true;
+  return range;
+}
+
+OptionTable<MixtureOptions> MakeMixtureTable() {
+  using O = MixtureOptions;
+  return {
+      BoolOption<O>("use_null_hypothesis",
+                    &O::use_null_hypothesis,
+                    "add a null-hypothesis component to every max-mixture"),
+      DoubleOption<O>("null_weight",
+                      &O::null_weight,
+                      "",
+                      Positive(),
+                      "the null hypothesis's weight, relative to the "
+                      "hypotheses' weights normalised to sum 1"),
+      DoubleOption<O>("null_sigma_scale",
+                      &O::null_sigma_scale,
+                      "",
+                      Above(1.0),
+                      "the null hypothesis's sigmas are the nearest "
+                      "component's times this"),
+  };
+}
+
+OptionTable<CategorizationOptions> MakeCategorizationTable() {
+  using O = CategorizationOptions;
+  return {
+      DoubleOption<O>("min_axis_angle",
+                      &O::min_axis_angle,
+                      "rad",
+                      AngleBelowPi(),
+                      "relative rotations larger than this vote for the axis"),
+      DoubleOption<O>("axis_vote_angle",
+                      &O::axis_vote_angle,
+                      "rad",
+                      AngleBelowPi(),
+                      "two axis votes agree within this angle, up to sign"),
+      DoubleOption<O>("swing_tolerance",
+                      &O::swing_tolerance,
+                      "rad",
+                      AngleBelowPi(),
+                      "a hypothesis is an axis inlier within this angle"),
+      DoubleOption<O>("cluster_eps",
+                      &O::cluster_eps,
+                      "rad",
+                      AngleBelowPi(),
+                      "circular DBSCAN radius of the twist angles"),
+      IntOption<O>("min_points",
+                   &O::min_points,
+                   AtLeast(1),
+                   "DBSCAN core size, smallest mode and axis support"),
+      BoolOption<O>("merge_close_clusters",
+                    &O::merge_close_clusters,
+                    "merge neighbouring clusters that one noisy mode split"),
+      IntOption<O>("rescue_min_points",
+                   &O::rescue_min_points,
+                   AtLeast(0),
+                   "discrete: groups of this many DBSCAN noise points become "
+                   "clusters; 0 disables"),
+      DoubleOption<O>("max_cluster_extent",
+                      &O::max_cluster_extent,
+                      "rad",
+                      AngleBelowPi(),
+                      "a cluster is compact when its arc is at most this"),
+      DoubleOption<O>("min_cluster_separation",
+                      &O::min_cluster_separation,
+                      "rad",
+                      AngleBelowPi(),
+                      "discrete: least arc between neighbouring clusters"),
+      DoubleOption<O>("separation_ratio",
+                      &O::separation_ratio,
+                      "",
+                      NonNegative(),
+                      "discrete: least arc between clusters over their mean "
+                      "extent"),
+      DoubleOption<O>("max_noise_fraction",
+                      &O::max_noise_fraction,
+                      "",
+                      Fraction(),
+                      "discrete: largest share of DBSCAN noise among the axis "
+                      "inliers"),
+      DoubleOption<O>("empty_gap_angle",
+                      &O::empty_gap_angle,
+                      "rad",
+                      AngleBelowPi(),
+                      "discrete: gaps between twists wider than this count as "
+                      "empty"),
+      DoubleOption<O>("min_empty_fraction",
+                      &O::min_empty_fraction,
+                      "",
+                      Fraction(),
+                      "discrete: least share of the circle in empty gaps"),
+      DoubleOption<O>("asymmetric_inlier_angle",
+                      &O::asymmetric_inlier_angle,
+                      "rad",
+                      AngleBelowPi(),
+                      "asymmetric: inliers are within this angle of the mean "
+                      "pose"),
+      DoubleOption<O>("translation_gate",
+                      &O::translation_gate,
+                      "m",
+                      PositiveOrInfinity(),
+                      "inliers farther than this from the median translation "
+                      "are dropped; inf disables"),
+      DoubleOption<O>("prior_snap_angle",
+                      &O::prior_snap_angle,
+                      "rad",
+                      AngleBelowPi(),
+                      "a cluster angle snaps to a multiple of 2 pi / the "
+                      "prior's order within this"),
+      BoolOption<O>("read_one_mode_with_prior",
+                    &O::read_one_mode_with_prior,
+                    "one mode of a class with a symmetric prior takes the "
+                    "prior's type"),
+  };
+}
+
+void AppendWindowOptions(OptionTable<BackendOptions>* table) {
+  using O = BackendOptions;
+  table->insert(
+      table->end(),
+      {
+          EnumOption<O>("method",
+                        &O::method,
+                        MethodNames(),
+                        "symba, mh (all hypotheses in one 6-DoF max-mixture) "
+                        "or sh (the highest-weight hypothesis)"),
+          IntOption<O>("window_size",
+                       &O::window_size,
+                       AtLeast(1),
+                       "keyframes free in a window solve"),
+          EnumOption<O>("window_policy",
+                        &O::window_policy,
+                        WindowPolicyNames(),
+                        "what a keyframe leaving the window becomes: "
+                        "marginalize, condition or drop"),
+          DoubleOption<O>("marginalize_min_margin",
+                          &O::marginalize_min_margin,
+                          "",
+                          NonNegative(),
+                          "marginalize: the cost lead (nats) a max-mixture's "
+                          "winner needs over every rival to enter a prior"),
+          DoubleOption<O>("marginalize_rival_distance",
+                          &O::marginalize_rival_distance,
+                          "",
+                          NonNegative(),
+                          "marginalize: whitened residual distance beyond "
+                          "which a component is the winner's rival"),
+          EnumOption<O>("chain_prior",
+                        &O::chain_prior,
+                        ChainPriorNames(),
+                        "marginalize: a leaving keyframe held at its estimate "
+                        "(conditional) or eliminated by the Schur complement "
+                        "(marginal)"),
+          BoolOption<O>("keep_history",
+                        &O::keep_history,
+                        "keep the factors of keyframes that left the window "
+                        "for a batch solve (otherwise they are freed)"),
+          IntOption<O>("max_iterations",
+                       &O::max_iterations,
+                       AtLeast(1),
+                       "solver iterations per window solve"),
+          IntOption<O>("batch_max_iterations",
+                       &O::batch_max_iterations,
+                       AtLeast(1),
+                       "solver iterations of a batch solve"),
+          IntOption<O>(
+              "num_threads", &O::num_threads, AtLeast(1), "Ceres threads"),
+      });
+}
+
+void AppendObjectEdgeOptions(OptionTable<BackendOptions>* table) {
+  using O = BackendOptions;
+  table->insert(
+      table->end(),
+      {
+          DoubleOption<O>("hypothesis_sigma_t",
+                          &O::hypothesis_sigma_t,
+                          "m",
+                          Positive(),
+                          "hypothesis translation noise when a detection "
+                          "gives none"),
+          DoubleOption<O>("hypothesis_sigma_r",
+                          &O::hypothesis_sigma_r,
+                          "rad",
+                          Positive(),
+                          "hypothesis rotation noise when a detection gives "
+                          "none"),
+          DoubleOption<O>("gamma",
+                          &O::gamma,
+                          "",
+                          NonNegative(),
+                          "weight of the continuous edge's axis term"),
+          DoubleOption<O>("axis_sigma",
+                          &O::axis_sigma,
+                          "rad",
+                          Positive(),
+                          "noise of a measured axis"),
+          BoolOption<O>("merge_modes",
+                        &O::merge_modes,
+                        "symba: one component per mode at its mean; false: "
+                        "one per hypothesis, as in the paper"),
+          EnumOption<O>("object_loss",
+                        &O::object_loss,
+                        LossNames(),
+                        "robust loss on every object edge: none, huber or "
+                        "cauchy"),
+          DoubleOption<O>("object_loss_scale",
+                          &O::object_loss_scale,
+                          "",
+                          Positive(),
+                          "scale of the object loss (whitened units)"),
+      });
+  AppendNested("mixture", &O::mixture, MixtureOptionTable(), table);
+}
+
+void AppendCameraAndGateOptions(OptionTable<BackendOptions>* table) {
+  using O = BackendOptions;
+  table->insert(
+      table->end(),
+      {
+          DoubleOption<O>("frontend_sigma_t",
+                          &O::frontend_sigma_t,
+                          "m",
+                          Positive(),
+                          "translation noise of the front end's relative "
+                          "motion"),
+          DoubleOption<O>("frontend_sigma_r",
+                          &O::frontend_sigma_r,
+                          "rad",
+                          Positive(),
+                          "rotation noise of the front end's relative motion"),
+          DoubleOption<O>("point_sigma_px",
+                          &O::point_sigma_px,
+                          "px",
+                          Positive(),
+                          "reprojection noise"),
+          DoubleOption<O>("point_loss_scale",
+                          &O::point_loss_scale,
+                          "",
+                          Positive(),
+                          "Huber scale of the reprojection (whitened units)"),
+          DoubleOption<O>("point_depth_sigma_relative",
+                          &O::point_depth_sigma_relative,
+                          "",
+                          NonNegative(),
+                          "depth noise as a fraction of the depth; 0 ignores "
+                          "depths"),
+          DoubleOption<O>("gate_position",
+                          &O::gate_position,
+                          "m",
+                          Positive(),
+                          "association gate on position"),
+          DoubleOption<O>("gate_axis",
+                          &O::gate_axis,
+                          "rad",
+                          AngleBelowHalfPi(),
+                          "association gate on the axis, sign-free"),
+          DoubleOption<O>("gate_rotation",
+                          &O::gate_rotation,
+                          "rad",
+                          Positive(),
+                          "association gate on the 6-DoF rotation"),
+          DoubleOption<O>("gate_angle",
+                          &O::gate_angle,
+                          "rad",
+                          AngleBelowPi(),
+                          "association gate of a discrete cluster's angle"),
+          DoubleOption<O>("reanchor_angle",
+                          &O::reanchor_angle,
+                          "rad",
+                          AngleBelowPi(),
+                          "a discrete object's axis is re-anchored when it "
+                          "moved this far"),
+      });
+}
+
+void AppendRealDetectorOptions(OptionTable<BackendOptions>* table) {
+  using O = BackendOptions;
+  table->insert(
+      table->end(),
+      {
+          IntOption<O>("confirm_keyframes",
+                       &O::confirm_keyframes,
+                       AtLeast(1),
+                       "keyframes with a detection before a new object "
+                       "enters the map (1: at once)"),
+          IntOption<O>("tentative_timeout",
+                       &O::tentative_timeout,
+                       AtLeast(1),
+                       "keyframes without a detection after which a "
+                       "tentative object is dropped"),
+          DoubleOption<O>("gate_sigmas",
+                          &O::gate_sigmas,
+                          "",
+                          NonNegative(),
+                          "position gate in the detection's noise; 0: "
+                          "gate_position only"),
+          BoolOption<O>("estimate_noise",
+                        &O::estimate_noise,
+                        "estimate each class's detection noise from the data"),
+          IntOption<O>("noise_window",
+                       &O::noise_window,
+                       AtLeast(1),
+                       "noise samples kept per class (>= noise_min_samples)"),
+          IntOption<O>("noise_min_samples",
+                       &O::noise_min_samples,
+                       AtLeast(1),
+                       "noise samples needed before a class's estimate is "
+                       "used"),
+          DoubleOption<O>("noise_update_ratio",
+                          &O::noise_update_ratio,
+                          "",
+                          AtLeast(1.0),
+                          "change of a class's noise estimate that rebuilds "
+                          "its edges"),
+          DoubleOption<O>("uncalibrated_sigma_t",
+                          &O::uncalibrated_sigma_t,
+                          "m",
+                          Positive(),
+                          "with estimate_noise: least translation noise of a "
+                          "detection without sigmas"),
+          DoubleOption<O>("uncalibrated_sigma_r",
+                          &O::uncalibrated_sigma_r,
+                          "rad",
+                          Positive(),
+                          "with estimate_noise: least rotation noise of a "
+                          "detection without sigmas"),
+          DoubleOption<O>("min_support",
+                          &O::min_support,
+                          "",
+                          Fraction(),
+                          "drop a confirmed object detected in under this "
+                          "share of the keyframes it was in view; 0 disables"),
+          IntOption<O>("min_support_views",
+                       &O::min_support_views,
+                       AtLeast(1),
+                       "keyframes in view before min_support applies"),
+          IntOption<O>("upgrade_evidence",
+                       &O::upgrade_evidence,
+                       AtLeast(1),
+                       "symba: agreeing flips before an asymmetric object "
+                       "becomes discrete"),
+          DoubleOption<O>("upgrade_min_fraction",
+                          &O::upgrade_min_fraction,
+                          "",
+                          Fraction(),
+                          "symba: the agreeing flips' least share of the "
+                          "keyframes that detected the object"),
+          IntOption<O>("max_upgrade_order",
+                       &O::max_upgrade_order,
+                       AtLeast(2),
+                       "symba: the largest symmetry order a flip may show"),
+          DoubleOption<O>("upgrade_angle_tolerance",
+                          &O::upgrade_angle_tolerance,
+                          "rad",
+                          AngleBelowHalfPi(),
+                          "symba: how closely a flip angle must fit 2 pi j / "
+                          "K"),
+      });
+}
+
+OptionTable<BackendOptions> MakeBackendTable() {
+  OptionTable<BackendOptions> table;
+  AppendWindowOptions(&table);
+  AppendObjectEdgeOptions(&table);
+  AppendCameraAndGateOptions(&table);
+  AppendRealDetectorOptions(&table);
+  AppendNested("categorization",
+               &BackendOptions::categorization,
+               CategorizationOptionTable(),
+               &table);
+  return table;
+}
+
+}  // namespace
+
+const std::vector<EnumName<Method>>& MethodNames() {
+  static const std::vector<EnumName<Method>> names = {
+      {Method::kSymba, "symba"},
+      {Method::kMultiHypothesis, "mh"},
+      {Method::kSingleHypothesis, "sh"}};
+  return names;
+}
+
+const std::vector<EnumName<WindowPolicy>>& WindowPolicyNames() {
+  static const std::vector<EnumName<WindowPolicy>> names = {
+      {WindowPolicy::kMarginalize, "marginalize"},
+      {WindowPolicy::kCondition, "condition"},
+      {WindowPolicy::kDrop, "drop"}};
+  return names;
+}
+
+const std::vector<EnumName<ChainPrior>>& ChainPriorNames() {
+  static const std::vector<EnumName<ChainPrior>> names = {
+      {ChainPrior::kConditional, "conditional"},
+      {ChainPrior::kMarginal, "marginal"}};
+  return names;
+}
+
+const std::vector<EnumName<LossType>>& LossNames() {
+  static const std::vector<EnumName<LossType>> names = {
+      {LossType::kNone, "none"},
+      {LossType::kHuber, "huber"},
+      {LossType::kCauchy, "cauchy"}};
+  return names;
+}
+
+const OptionTable<MixtureOptions>& MixtureOptionTable() {
+  static const OptionTable<MixtureOptions> table = MakeMixtureTable();
+  return table;
+}
+
+const OptionTable<CategorizationOptions>& CategorizationOptionTable() {
+  static const OptionTable<CategorizationOptions> table =
+      MakeCategorizationTable();
+  return table;
+}
+
+const OptionTable<BackendOptions>& BackendOptionTable() {
+  static const OptionTable<BackendOptions> table = MakeBackendTable();
+  return table;
+}
+
+}  // namespace symba

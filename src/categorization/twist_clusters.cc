@@ -67,19 +67,25 @@ bool FarApart(const CircularCluster& cluster,
              kTwoPi + 1e-9;  // the arcs do not overlap
 }
 
+// Circular DBSCAN of finite angles with validated options (eps in (0, pi),
+// min_points >= 1), which it cannot refuse.
+CircularDbscanResult Dbscan(const std::vector<double>& angles,
+                            double eps,
+                            int min_points) {
+  CircularDbscanOptions options;
+  options.eps = eps;
+  options.min_points = min_points;
+  CircularDbscanResult result;
+  const Status status = CircularDbscan(angles, options, &result);
+  SYMBA_CHECK(status.ok()) << status.message();
+  return result;
+}
+
 }  // namespace
 
 CircularDbscanResult ClusterTwists(const std::vector<double>& twists,
                                    const CategorizationOptions& options) {
-  CircularDbscanOptions dbscan_options;
-  dbscan_options.eps = options.cluster_eps;
-  dbscan_options.min_points = options.min_points;
-  CircularDbscanResult clusters;
-  // Validate() keeps cluster_eps in (0, pi) and min_points >= 1, and twists
-  // are finite, so DBSCAN cannot refuse its input.
-  const Status status = CircularDbscan(twists, dbscan_options, &clusters);
-  SYMBA_CHECK(status.ok()) << status.message();
-  return clusters;
+  return Dbscan(twists, options.cluster_eps, options.min_points);
 }
 
 void MergeCloseClusters(const CategorizationOptions& options,
@@ -131,14 +137,9 @@ void RescueSmallModes(const std::vector<double>& twists,
       noise_index.push_back(i);
     }
   }
-  CircularDbscanOptions rescue_options;
-  rescue_options.eps = options.cluster_eps;
-  rescue_options.min_points = options.rescue_min_points;
-  CircularDbscanResult rescue;
-  // The caller runs this only with rescue_min_points > 0; cluster_eps is
-  // validated and the twists are finite, so DBSCAN cannot refuse its input.
-  const Status status = CircularDbscan(noise_angles, rescue_options, &rescue);
-  SYMBA_CHECK(status.ok()) << status.message();
+  // The caller runs this only with rescue_min_points > 0.
+  const CircularDbscanResult rescue =
+      Dbscan(noise_angles, options.cluster_eps, options.rescue_min_points);
   const int num_existing = static_cast<int>(result->clusters.size());
   for (int r = 0; r < static_cast<int>(rescue.clusters.size()); ++r) {
     const CircularCluster& candidate = rescue.clusters[r];

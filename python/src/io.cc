@@ -11,6 +11,7 @@
 #include "convert.h"
 #include "estimates.h"
 #include "repr.h"
+#include "symba/common/count_phrase.h"
 #include "symba/import/bop_import.h"
 #include "symba/import/class_prior_spec.h"
 #include "symba/import/tum_import.h"
@@ -288,10 +289,17 @@ void BindReplay(py::module_& m) {
       .def_readonly("last_solve", &PyReplayResult::last_solve)
       .def_readonly("seconds", &PyReplayResult::seconds)
       .def("__repr__", [](const PyReplayResult& r) {
-        return "ReplayResult(" + std::to_string(r.trajectory.ids.size()) +
-               " keyframes, " + std::to_string(r.objects.size()) +
-               " map objects, " + std::to_string(r.assignments.size()) +
-               " assignments, seconds=" +
+        return "ReplayResult(" +
+               symba::CountPhrase(
+                   static_cast<long long>(r.trajectory.ids.size()),
+                   "keyframe") +
+               ", " +
+               symba::CountPhrase(static_cast<long long>(r.objects.size()),
+                                  "map object") +
+               ", " +
+               symba::CountPhrase(static_cast<long long>(r.assignments.size()),
+                                  "assignment") +
+               ", seconds=" +
                py::repr(py::float_(r.seconds)).cast<std::string>() + ")";
       });
 

@@ -13,6 +13,7 @@
 
 #include "symba/backend/backend_option_table.h"
 #include "symba/common/check.h"
+#include "symba/common/count_phrase.h"
 #include "symba/export/refined_bop_results.h"
 #include "symba/geometry/angle.h"
 #include "symba/io/file_output.h"
@@ -267,13 +268,17 @@ int RunPoseGraphReplay(const ReplayFlags& f) {
 // long it took and where it went.
 void PrintReplaySummary(const ReplayFlags& f,
                         const symba::ReplayResult& result) {
+  const std::string counts =
+      symba::CountPhrase(static_cast<long long>(result.keyframes.size()),
+                         "keyframe") +
+      ", " + symba::CountPhrase(result.statistics.detections, "detection") +
+      ", " +
+      symba::CountPhrase(static_cast<long long>(result.objects.size()),
+                         "map object");
   std::fprintf(stderr,
-               "symba replay: wrote %s: %d keyframes, %d detections, %d map "
-               "objects in %.2f s",
+               "symba replay: wrote %s: %s in %.2f s",
                f.out.c_str(),
-               static_cast<int>(result.keyframes.size()),
-               result.statistics.detections,
-               static_cast<int>(result.objects.size()),
+               counts.c_str(),
                result.seconds);
   if (!f.bop_out.empty())
     std::fprintf(stderr, "; BOP results %s", f.bop_out.c_str());

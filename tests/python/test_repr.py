@@ -29,7 +29,7 @@ def test_every_result_class_defines_a_repr():
 def test_replay_results(source_dir):
     result = symba.replay(str(source_dir / "tests/data/replay/table.jsonl"),
                           symba.BackendOptions(confirm_keyframes=1))
-    assert re.fullmatch(r"ReplayResult\(4 keyframes, 1 map objects, "
+    assert re.fullmatch(r"ReplayResult\(4 keyframes, 1 map object, "
                         r"4 assignments, seconds=[0-9.e-]+\)", repr(result))
     assert repr(result.trajectory) == (
         "Trajectory(ids=[0, 1, 2, 3], timestamps=[0.0, 0.1, 0.2, "

@@ -16,7 +16,7 @@ if(NOT stdout STREQUAL "")
   message(FATAL_ERROR "stdout is not empty: '${stdout}'")
 endif()
 # The four keyframes of table.jsonl, one detection each, all of one object.
-set(expected "^symba replay: wrote ${out}: 4 keyframes, 4 detections, 1 map objects in [0-9]+\\.[0-9][0-9] s\n$")
+set(expected "^symba replay: wrote ${out}: 4 keyframes, 4 detections, 1 map object in [0-9]+\\.[0-9][0-9] s\n$")
 if(NOT stderr MATCHES "${expected}")
   message(FATAL_ERROR "stderr is '${stderr}', expected a match of '${expected}'")
 endif()

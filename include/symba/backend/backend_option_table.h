@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "symba/backend/backend_options.h"
+#include "symba/categorization/categorization_option_table.h"
 #include "symba/common/option_table.h"
 
 namespace symba {
@@ -22,7 +23,6 @@ const std::vector<EnumName<ChainPrior>>& ChainPriorNames();
 const std::vector<EnumName<LossType>>& LossNames();
 
 const OptionTable<MixtureOptions>& MixtureOptionTable();
-const OptionTable<CategorizationOptions>& CategorizationOptionTable();
 // BackendOptions' own fields, then mixture.* and categorization.*, each at
 // the place of its member.
 const OptionTable<BackendOptions>& BackendOptionTable();

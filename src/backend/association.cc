@@ -14,6 +14,20 @@ double AxisDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized()))));
 }
 
+AssociationScope DetectionScope(const DetectionInput& detection,
+                                const KeyframeState& kf,
+                                const Eigen::Vector3d& t_co,
+                                const std::optional<double>& estimated_sigma_t,
+                                const BackendOptions& options) {
+  AssociationScope scope;
+  scope.sigma_t = detection.sigma_t || detection.sigma_r
+                      ? detection.sigma_t.value_or(options.hypothesis_sigma_t)
+                      : estimated_sigma_t;
+  scope.prediction_variance =
+      kf.motion_variance_t + t_co.squaredNorm() * kf.motion_variance_r;
+  return scope;
+}
+
 double PositionGate(const ObjectState& object,
                     const AssociationScope& scope,
                     const BackendOptions& options) {

@@ -40,6 +40,7 @@
 
 #include "backend/backend_state.h"
 #include "symba/backend/backend_options.h"
+#include "symba/backend/keyframe_input.h"
 #include "symba/categorization/categorize.h"
 
 namespace symba::internal {
@@ -58,6 +59,17 @@ struct AssociationScope {
   // position (m^2): one step of the camera motion noise at its distance.
   double prediction_variance = 0.0;
 };
+
+// The scope of a detection in keyframe `kf` seen at t_co (confirmed
+// objects): the position noise the gates use, the detection's sigma_t (or
+// the default) where it declares a noise, else the class's estimate
+// `estimated_sigma_t` (the gate wants the scatter itself, not the floor of
+// the weighting); and one motion step's variance at the object's distance.
+AssociationScope DetectionScope(const DetectionInput& detection,
+                                const KeyframeState& kf,
+                                const Eigen::Vector3d& t_co,
+                                const std::optional<double>& estimated_sigma_t,
+                                const BackendOptions& options);
 
 // The position gate (m) of `object` for a detection in `scope`:
 // min(gate_position, gate_sigmas * sqrt(sigma_t^2 (1 + 1/n) +

@@ -1,6 +1,5 @@
-// Backend: keyframes, detections per method, the solves and the read-back.
-// The object lifecycle is in map_objects.cc; see backend_impl.h for the map
-// of the backend's units.
+// Backend: the recipe of a keyframe, the solves and the read-back (see
+// backend_impl.h for the map of the backend's parts).
 #include "symba/backend/backend.h"
 
 #include <algorithm>
@@ -19,68 +18,51 @@
 namespace symba {
 
 using internal::DetectionId;
-using internal::FactorRecord;
 using internal::KeyframeState;
-using internal::Normalized;
-using internal::ObjectObservation;
 using internal::ObjectState;
-using internal::PointState;
-
-namespace {
-
-std::unique_ptr<ceres::LossFunction> MakeLoss(LossType type, double scale) {
-  switch (type) {
-    case LossType::kNone:
-      return nullptr;
-    case LossType::kHuber:
-      return std::make_unique<ceres::HuberLoss>(scale);
-    case LossType::kCauchy:
-      return std::make_unique<ceres::CauchyLoss>(scale);
-  }
-  return nullptr;
-}
-
-}  // namespace
 
 Backend::Impl::Impl(const BackendOptions& options,
                     const std::optional<PinholeIntrinsics>& intrinsics,
                     const std::map<std::string, ClassPrior>& class_priors)
     : options_(options),
-      intrinsics_(intrinsics),
-      class_priors_(class_priors),
-      object_loss_(MakeLoss(options.object_loss, options.object_loss_scale)),
-      point_loss_(std::make_unique<ceres::HuberLoss>(options.point_loss_scale)),
-      noise_(options.noise_window, options.noise_min_samples),
-      graph_(options_, keyframes_, objects_, points_, &statistics_) {}
+      trajectory_(options_, intrinsics, &graph_, &statistics_),
+      map_(options_, class_priors, &graph_, &statistics_, &assignments_),
+      graph_(options_,
+             trajectory_.keyframes(),
+             map_.objects(),
+             trajectory_.points(),
+             &statistics_),
+      edges_(
+          options_, trajectory_.keyframes(), &map_.mutable_objects(), &graph_) {
+}
 
 std::vector<ClassNoiseEstimate> Backend::Impl::Noise() const {
   std::vector<ClassNoiseEstimate> classes;
-  for (const std::string& name : noise_.Classes()) {
-    const internal::ClassNoise estimate = noise_.Estimate(name);
+  const internal::DetectionNoiseEstimator& noise = map_.noise();
+  for (const std::string& name : noise.Classes()) {
+    const internal::ClassNoise estimate = noise.Estimate(name);
     ClassNoiseEstimate c;
     c.class_name = name;
     c.sigma_t = estimate.sigma_t;
     c.sigma_r = estimate.sigma_r;
     // As BuildObjectEdge weighs a detection without a sigma: the applied
     // estimate against the floor.
-    const auto applied = applied_noise_.find(name);
-    const internal::ClassNoise used = applied == applied_noise_.end()
-                                          ? internal::ClassNoise{}
-                                          : applied->second;
+    const internal::ClassNoise used = edges_.AppliedNoise(name);
     c.weight_sigma_t = internal::EffectiveSigma(
         options_.uncalibrated_sigma_t, false, used.sigma_t);
     c.weight_sigma_r = internal::EffectiveSigma(
         options_.uncalibrated_sigma_r, false, used.sigma_r);
-    c.translation = noise_.TranslationReport(name);
-    c.rotation = noise_.RotationReport(name);
+    c.translation = noise.TranslationReport(name);
+    c.rotation = noise.RotationReport(name);
     classes.push_back(std::move(c));
   }
   return classes;
 }
 
 int Backend::Impl::WindowStart() const {
-  return std::max(0,
-                  static_cast<int>(keyframes_.size()) - options_.window_size);
+  return std::max(
+      0,
+      static_cast<int>(trajectory_.keyframes().size()) - options_.window_size);
 }
 
 // ---------------------------------------------------------------------------
@@ -88,50 +70,32 @@ int Backend::Impl::WindowStart() const {
 
 Status Backend::Impl::AddKeyframe(
     const KeyframeInput& input, std::vector<DetectionAssignment>* assignments) {
+  const internal::KeyframeList& keyframes = trajectory_.keyframes();
   std::optional<internal::PreviousKeyframe> previous;
-  if (!keyframes_.empty()) {
-    previous = internal::PreviousKeyframe{keyframes_.back()->id,
-                                          keyframes_.back()->timestamp};
+  if (!keyframes.empty()) {
+    previous = internal::PreviousKeyframe{keyframes.back()->id,
+                                          keyframes.back()->timestamp};
   }
   Status status =
-      internal::ValidateKeyframe(input, previous, intrinsics_.has_value());
+      internal::ValidateKeyframe(input, previous, trajectory_.has_intrinsics());
   if (!status.ok()) return status;
   status = CategorizeDetections(input);
   if (!status.ok()) return status;
 
   // Nothing below can fail: the keyframe is added whole.
   const size_t first_assignment = assignments_.size();
-  auto kf = std::make_unique<KeyframeState>();
-  kf->id = input.id;
-  kf->timestamp = input.timestamp;
-  internal::WritePose(InitialPose(input), kf->q, kf->t);
-  kf->T_wc_chain = ChainPose(input);
-  if (input.T_wc) kf->T_wc_frontend = Normalized(*input.T_wc);
-  const int k = static_cast<int>(keyframes_.size());
-  keyframes_.push_back(std::move(kf));
-  graph_.SetManifold(keyframes_[k]->q, &quaternion_manifold_);
-  ++statistics_.keyframes;
-
-  AddCameraFactors(k, input);
-  if (input.T_wc) last_frontend_keyframe_ = k;
-  AddPointObservations(k, input);
+  const int k = trajectory_.Add(input);
   for (size_t d = 0; d < input.detections.size(); ++d) {
     AddDetection(k,
                  input.detections[d],
                  options_.method == Method::kSymba ? &categorized_[d] : nullptr,
                  DetectionId(input, d));
   }
-  UpdateTentativeObjects(k);
-  if (options_.min_support > 0.0) PruneUnsupportedObjects(k);
-  if (options_.estimate_noise) {
-    std::vector<std::string> classes;
-    for (const DetectionInput& det : input.detections) {
-      classes.push_back(det.class_name);
-    }
-    std::sort(classes.begin(), classes.end());
-    classes.erase(std::unique(classes.begin(), classes.end()), classes.end());
-    UpdateDetectionNoise(classes);
+  map_.UpdateTentative(k);
+  if (options_.min_support > 0.0) {
+    map_.PruneUnsupported(k, keyframes[k]->T_wc());
   }
+  if (options_.estimate_noise) UpdateDetectionNoise(input);
   if (assignments != nullptr) {
     assignments->assign(assignments_.begin() + first_assignment,
                         assignments_.end());
@@ -139,11 +103,32 @@ Status Backend::Impl::AddKeyframe(
   return Status::Ok();
 }
 
+void Backend::Impl::UpdateDetectionNoise(const KeyframeInput& input) {
+  std::vector<std::string> classes;
+  for (const DetectionInput& det : input.detections) {
+    classes.push_back(det.class_name);
+  }
+  std::sort(classes.begin(), classes.end());
+  classes.erase(std::unique(classes.begin(), classes.end()), classes.end());
+  for (const std::string& class_name : classes) {
+    if (!edges_.ApplyNoise(class_name, map_.noise().Estimate(class_name))) {
+      continue;
+    }
+    for (int o : map_.ObjectsOfClass(class_name)) {
+      if (map_.objects()[o]->status != internal::ObjectStatus::kDropped) {
+        edges_.Rebuild(o);
+      }
+    }
+  }
+}
+
 // ---------------------------------------------------------------------------
 // Factors and the solves.
 
 Status Backend::Impl::OptimizeWindow(SolveReport* report) {
-  if (keyframes_.empty()) return Status::Error("no keyframes to optimise");
+  if (trajectory_.keyframes().empty()) {
+    return Status::Error("no keyframes to optimise");
+  }
   const auto start = std::chrono::steady_clock::now();
   internal::SolveOutcome outcome;
   graph_.SolveWindow(WindowStart(), &outcome);
@@ -151,9 +136,11 @@ Status Backend::Impl::OptimizeWindow(SolveReport* report) {
 }
 
 Status Backend::Impl::OptimizeBatch(SolveReport* report) {
-  if (keyframes_.empty()) return Status::Error("no keyframes to optimise");
+  if (trajectory_.keyframes().empty()) {
+    return Status::Error("no keyframes to optimise");
+  }
   const auto start = std::chrono::steady_clock::now();
-  RebuildStaleObjectFactors();
+  edges_.RebuildStale();
   internal::SolveOutcome outcome;
   const Status status = graph_.SolveBatch(&outcome);
   if (!status.ok()) return status;
@@ -189,13 +176,20 @@ Status Backend::Impl::Finish(const char* what,
   return Status::Ok();
 }
 
+void Backend::Impl::ReanchorDriftedObjects() {
+  const int count = static_cast<int>(map_.objects().size());
+  for (int o = 0; o < count; ++o) {
+    if (map_.ReanchorIfDrifted(o)) edges_.Rebuild(o);
+  }
+}
+
 // ---------------------------------------------------------------------------
 // Read-back.
 
 std::vector<KeyframeEstimate> Backend::Impl::Keyframes() const {
   std::vector<KeyframeEstimate> estimates;
-  estimates.reserve(keyframes_.size());
-  for (const auto& kf : keyframes_) {
+  estimates.reserve(trajectory_.keyframes().size());
+  for (const auto& kf : trajectory_.keyframes()) {
     estimates.push_back({kf->id, kf->timestamp, kf->T_wc()});
   }
   return estimates;
@@ -203,7 +197,7 @@ std::vector<KeyframeEstimate> Backend::Impl::Keyframes() const {
 
 std::vector<MapObjectEstimate> Backend::Impl::Objects() const {
   std::vector<MapObjectEstimate> estimates;
-  for (const auto& object : objects_) {
+  for (const auto& object : map_.objects()) {
     if (object->status != internal::ObjectStatus::kConfirmed) continue;
     estimates.push_back(EstimateOf(*object));
   }
@@ -211,24 +205,19 @@ std::vector<MapObjectEstimate> Backend::Impl::Objects() const {
 }
 
 std::optional<KeyframeEstimate> Backend::Impl::Keyframe(KeyframeId id) const {
-  // Keyframe ids are strictly increasing.
-  const auto it =
-      std::lower_bound(keyframes_.begin(),
-                       keyframes_.end(),
-                       id,
-                       [](const std::unique_ptr<KeyframeState>& kf,
-                          KeyframeId value) { return kf->id < value; });
-  if (it == keyframes_.end() || (*it)->id != id) return std::nullopt;
-  return KeyframeEstimate{(*it)->id, (*it)->timestamp, (*it)->T_wc()};
+  const KeyframeState* kf = trajectory_.Find(id);
+  if (kf == nullptr) return std::nullopt;
+  return KeyframeEstimate{kf->id, kf->timestamp, kf->T_wc()};
 }
 
 std::optional<MapObjectEstimate> Backend::Impl::Object(ObjectId id) const {
   // Object ids are indices.
-  if (id < 0 || id >= static_cast<ObjectId>(objects_.size()) ||
-      objects_[id]->status != internal::ObjectStatus::kConfirmed) {
+  const internal::ObjectList& objects = map_.objects();
+  if (id < 0 || id >= static_cast<ObjectId>(objects.size()) ||
+      objects[id]->status != internal::ObjectStatus::kConfirmed) {
     return std::nullopt;
   }
-  return EstimateOf(*objects_[id]);
+  return EstimateOf(*objects[id]);
 }
 
 MapObjectEstimate Backend::Impl::EstimateOf(const ObjectState& object) const {
@@ -241,7 +230,7 @@ MapObjectEstimate Backend::Impl::EstimateOf(const ObjectState& object) const {
   if (object.upgrade) {
     const internal::UpgradeRecord& u = *object.upgrade;
     e.upgrade = MapObjectEstimate::Upgrade{
-        keyframes_[u.keyframe]->id, u.evidence, u.order, u.angle};
+        trajectory_.keyframes()[u.keyframe]->id, u.evidence, u.order, u.angle};
   }
   if (object.type == SymmetryType::kAsymmetric) {
     e.poses.push_back(Rigid3d(object.Rotation(-1), e.t_wo));

@@ -55,6 +55,21 @@ std::string DetectionId(const KeyframeInput& input, size_t d) {
                         : det.id;
 }
 
+void SetObservationNoise(const DetectionInput& detection,
+                         const BackendOptions& options,
+                         ObjectObservation* observation) {
+  const bool calibrated = detection.sigma_t || detection.sigma_r;
+  const bool uncalibrated_floor = !calibrated && options.estimate_noise;
+  observation->sigma_t = detection.sigma_t.value_or(
+      uncalibrated_floor ? options.uncalibrated_sigma_t
+                         : options.hypothesis_sigma_t);
+  observation->sigma_r = detection.sigma_r.value_or(
+      uncalibrated_floor ? options.uncalibrated_sigma_r
+                         : options.hypothesis_sigma_r);
+  observation->claimed_t = calibrated;
+  observation->claimed_r = calibrated;
+}
+
 int HighestWeight(const std::vector<PoseHypothesis>& hyps,
                   const std::vector<int>& indices) {
   int best = indices.front();

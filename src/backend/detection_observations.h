@@ -20,6 +20,14 @@ namespace symba::internal {
 // format's default).
 std::string DetectionId(const KeyframeInput& input, size_t d);
 
+// The detection's noise on `observation`: a detection that gives a sigma
+// is calibrated (claimed): what it gives is taken as it is, the options'
+// default fills in the other. Without either: the default, or under
+// estimate_noise the floor for an uncalibrated detector.
+void SetObservationNoise(const DetectionInput& detection,
+                         const BackendOptions& options,
+                         ObjectObservation* observation);
+
 // The index of the highest-weight hypothesis among `indices` (ties: the
 // first).
 int HighestWeight(const std::vector<PoseHypothesis>& hyps,

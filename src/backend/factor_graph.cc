@@ -190,7 +190,7 @@ void FactorGraph::Solve(int max_iterations,
                         int free_keyframes,
                         SolveOutcome* outcome) {
   ceres::Solver::Summary summary;
-  outcome->solved = problem_.NumResidualBlocks() > 0;
+  outcome->solved = problem_.ProblemSize().residual_blocks > 0;
   if (outcome->solved) {
     ceres::Solver::Options solver_options;
     solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
@@ -206,11 +206,10 @@ void FactorGraph::Solve(int max_iterations,
   outcome->final_cost = summary.final_cost;
   outcome->message = summary.message;
   outcome->free_keyframes = free_keyframes;
-  outcome->residual_blocks = problem_.NumResidualBlocks();
-  outcome->parameter_blocks = problem_.NumParameterBlocks();
-  outcome->prior_size = problem_.prior_in_problem()
-                            ? static_cast<int>(problem_.prior()->A().cols())
-                            : 0;
+  const WindowProblem::Size size = problem_.ProblemSize();
+  outcome->residual_blocks = size.residual_blocks;
+  outcome->parameter_blocks = size.parameter_blocks;
+  outcome->prior_size = size.prior_size;
 }
 
 }  // namespace symba::internal

@@ -17,6 +17,21 @@ ceres::Problem::Options ProblemOptions() {
   return options;
 }
 
+// Adds `block` to `problem` with its manifold unless the problem has it.
+void EnsureBlock(
+    const std::unordered_map<const double*, const ceres::Manifold*>& manifolds,
+    double* block,
+    int size,
+    ceres::Problem* problem) {
+  if (problem->HasParameterBlock(block)) return;
+  const auto it = manifolds.find(block);
+  problem->AddParameterBlock(block,
+                             size,
+                             it == manifolds.end()
+                                 ? nullptr
+                                 : const_cast<ceres::Manifold*>(it->second));
+}
+
 }  // namespace
 
 WindowProblem::WindowProblem() : problem_(ProblemOptions()) {}
@@ -108,7 +123,7 @@ void WindowProblem::Sync(const std::vector<int>& active,
     SYMBA_CHECK(record.cost != nullptr) << "a forgotten factor in a solve";
     const std::vector<int32_t>& sizes = record.cost->parameter_block_sizes();
     for (size_t b = 0; b < record.blocks.size(); ++b) {
-      EnsureBlock(record.blocks[b], sizes[b]);
+      EnsureBlock(manifolds_, record.blocks[b], sizes[b], &problem_);
     }
     record.residual =
         problem_.AddResidualBlock(record.cost.get(),
@@ -118,7 +133,7 @@ void WindowProblem::Sync(const std::vector<int>& active,
   if (options.with_prior && prior_ && prior_residual_ == nullptr) {
     const std::vector<int32_t>& sizes = prior_->parameter_block_sizes();
     for (size_t b = 0; b < prior_blocks_.size(); ++b) {
-      EnsureBlock(prior_blocks_[b], sizes[b]);
+      EnsureBlock(manifolds_, prior_blocks_[b], sizes[b], &problem_);
     }
     prior_residual_ =
         problem_.AddResidualBlock(prior_.get(), nullptr, prior_blocks_);
@@ -126,14 +141,13 @@ void WindowProblem::Sync(const std::vector<int>& active,
   in_problem_ = std::move(wanted);
 }
 
-void WindowProblem::EnsureBlock(double* block, int size) {
-  if (problem_.HasParameterBlock(block)) return;
-  const auto it = manifolds_.find(block);
-  problem_.AddParameterBlock(block,
-                             size,
-                             it == manifolds_.end()
-                                 ? nullptr
-                                 : const_cast<ceres::Manifold*>(it->second));
+WindowProblem::Size WindowProblem::ProblemSize() const {
+  Size size;
+  size.residual_blocks = problem_.NumResidualBlocks();
+  size.parameter_blocks = problem_.NumParameterBlocks();
+  size.prior_size =
+      prior_residual_ != nullptr ? static_cast<int>(prior_->A().cols()) : 0;
+  return size;
 }
 
 bool WindowProblem::HasBlock(const double* block) const {

@@ -56,7 +56,6 @@ class WindowProblem {
                 std::vector<double*> blocks);
   const MarginalPriorFactor* prior() const { return prior_.get(); }
   const std::vector<double*>& prior_blocks() const { return prior_blocks_; }
-  bool prior_in_problem() const { return prior_residual_ != nullptr; }
 
   // Makes the problem hold exactly the factors of `active` (indices; the
   // retired ones, and the marginalised ones unless with_marginalized, are
@@ -73,8 +72,13 @@ class WindowProblem {
   bool HasBlock(const double* block) const;
   // The block must be in the problem.
   void SetConstant(double* block, bool constant);
-  int NumResidualBlocks() const { return problem_.NumResidualBlocks(); }
-  int NumParameterBlocks() const { return problem_.NumParameterBlocks(); }
+  // What the problem holds after the last Sync.
+  struct Size {
+    int residual_blocks = 0;
+    int parameter_blocks = 0;
+    int prior_size = 0;  // the prior's tangent dimension (0: not in it)
+  };
+  Size ProblemSize() const;
 
   void Solve(const ceres::Solver::Options& options,
              ceres::Solver::Summary* summary);
@@ -83,7 +87,6 @@ class WindowProblem {
   void RemoveResidual(ceres::ResidualBlockId* residual,
                       const std::vector<double*>& blocks);
   void ReleaseUnusedBlocks();
-  void EnsureBlock(double* block, int size);
 
   // A deque: adding a factor never moves the others (no peak of twice the
   // records when a vector would grow).

@@ -365,21 +365,21 @@ TEST(WindowProblem, HoldsExactlyTheActiveFactorsAndTheirBlocks) {
   const int fa = problem.Add(OffsetFactor(&a, 1.0));
   const int fb = problem.Add(OffsetFactor(&b, 2.0));
   EXPECT_EQ(problem.size(), 2);
-  EXPECT_EQ(problem.NumResidualBlocks(), 0);  // nothing until a sync
+  EXPECT_EQ(problem.ProblemSize().residual_blocks, 0);  // nothing until a sync
 
   const WindowProblem::SyncOptions plain;
   problem.Sync({fa}, plain);
-  EXPECT_EQ(problem.NumResidualBlocks(), 1);
+  EXPECT_EQ(problem.ProblemSize().residual_blocks, 1);
   EXPECT_TRUE(problem.HasBlock(&a));
   EXPECT_FALSE(problem.HasBlock(&b));
 
   problem.Sync({fb}, plain);  // a leaves with its block, b enters
-  EXPECT_EQ(problem.NumResidualBlocks(), 1);
+  EXPECT_EQ(problem.ProblemSize().residual_blocks, 1);
   EXPECT_FALSE(problem.HasBlock(&a));
   EXPECT_TRUE(problem.HasBlock(&b));
 
   problem.Sync({fa, fb, fb}, plain);  // a re-enters; duplicates once
-  EXPECT_EQ(problem.NumResidualBlocks(), 2);
+  EXPECT_EQ(problem.ProblemSize().residual_blocks, 2);
   ceres::Solver::Options options;
   options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
@@ -391,20 +391,20 @@ TEST(WindowProblem, HoldsExactlyTheActiveFactorsAndTheirBlocks) {
   problem.Retire(fa);  // out for good, its cost function freed
   EXPECT_TRUE(problem.factor(fa).retired);
   EXPECT_EQ(problem.factor(fa).cost, nullptr);
-  EXPECT_EQ(problem.NumResidualBlocks(), 1);
+  EXPECT_EQ(problem.ProblemSize().residual_blocks, 1);
   problem.Sync({fa, fb}, plain);  // a retired factor never re-enters
-  EXPECT_EQ(problem.NumResidualBlocks(), 1);
+  EXPECT_EQ(problem.ProblemSize().residual_blocks, 1);
   EXPECT_NE(problem.factor(fb).residual, nullptr);
 
   problem.MarkMarginalized(fb);  // out of the window solves, not the batch
-  EXPECT_EQ(problem.NumResidualBlocks(), 0);
+  EXPECT_EQ(problem.ProblemSize().residual_blocks, 0);
   problem.Sync({fb}, plain);
-  EXPECT_EQ(problem.NumResidualBlocks(), 0);
+  EXPECT_EQ(problem.ProblemSize().residual_blocks, 0);
   EXPECT_FALSE(problem.HasBlock(&b));
   WindowProblem::SyncOptions batch;
   batch.with_marginalized = true;
   problem.Sync({fb}, batch);
-  EXPECT_EQ(problem.NumResidualBlocks(), 1);
+  EXPECT_EQ(problem.ProblemSize().residual_blocks, 1);
   EXPECT_EQ(problem.in_problem(), std::vector<int>{fb});
 }
 

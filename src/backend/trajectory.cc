@@ -1,24 +1,54 @@
-// Backend::Impl: a new keyframe's initial pose (the previous optimised pose
-// moved by the odometry or the front end's relative motion), its camera
-// motion factor and its point observations (reprojection and, with a depth,
-// the point depth factor; a point is created from its first observation
-// with a depth).
-#include <memory>
+// The backend's keyframes and map points (trajectory.h).
+#include "backend/trajectory.h"
+
+#include <algorithm>
 #include <utility>
 
-#include "backend/backend_impl.h"
 #include "symba/factors/point_depth_factor.h"
 #include "symba/factors/relative_pose_factor.h"
 #include "symba/factors/reprojection_factor.h"
 
-namespace symba {
+namespace symba::internal {
 
-using internal::FactorRecord;
-using internal::KeyframeState;
-using internal::Normalized;
-using internal::PointState;
+Trajectory::Trajectory(const BackendOptions& options,
+                       const std::optional<PinholeIntrinsics>& intrinsics,
+                       FactorGraph* graph,
+                       BackendStatistics* statistics)
+    : options_(options),
+      intrinsics_(intrinsics),
+      graph_(graph),
+      statistics_(statistics),
+      point_loss_(
+          std::make_unique<ceres::HuberLoss>(options.point_loss_scale)) {}
 
-Rigid3d Backend::Impl::InitialPose(const KeyframeInput& input) const {
+const KeyframeState* Trajectory::Find(int64_t id) const {
+  const auto it =
+      std::lower_bound(keyframes_.begin(),
+                       keyframes_.end(),
+                       id,
+                       [](const std::unique_ptr<KeyframeState>& kf,
+                          int64_t value) { return kf->id < value; });
+  return it == keyframes_.end() || (*it)->id != id ? nullptr : it->get();
+}
+
+int Trajectory::Add(const KeyframeInput& input) {
+  auto kf = std::make_unique<KeyframeState>();
+  kf->id = input.id;
+  kf->timestamp = input.timestamp;
+  WritePose(InitialPose(input), kf->q, kf->t);
+  kf->T_wc_chain = ChainPose(input);
+  if (input.T_wc) kf->T_wc_frontend = Normalized(*input.T_wc);
+  const int k = static_cast<int>(keyframes_.size());
+  keyframes_.push_back(std::move(kf));
+  graph_->SetManifold(keyframes_[k]->q, &quaternion_manifold_);
+  ++statistics_->keyframes;
+  AddCameraFactors(k, input);
+  if (input.T_wc) last_frontend_keyframe_ = k;
+  AddPointObservations(k, input);
+  return k;
+}
+
+Rigid3d Trajectory::InitialPose(const KeyframeInput& input) const {
   if (keyframes_.empty()) return Normalized(*input.T_wc);
   const Rigid3d T_w_prev = keyframes_.back()->T_wc();
   if (input.odometry) {
@@ -35,7 +65,7 @@ Rigid3d Backend::Impl::InitialPose(const KeyframeInput& input) const {
   return Normalized(*input.T_wc);
 }
 
-Rigid3d Backend::Impl::ChainPose(const KeyframeInput& input) const {
+Rigid3d Trajectory::ChainPose(const KeyframeInput& input) const {
   if (keyframes_.empty()) return Normalized(*input.T_wc);
   if (input.odometry) {
     return Normalized(keyframes_.back()->T_wc_chain *
@@ -49,7 +79,7 @@ Rigid3d Backend::Impl::ChainPose(const KeyframeInput& input) const {
   return Normalized(*input.T_wc);
 }
 
-void Backend::Impl::AddCameraFactors(int k, const KeyframeInput& input) {
+void Trajectory::AddCameraFactors(int k, const KeyframeInput& input) {
   KeyframeState& kf = *keyframes_[k];
   int other = -1;
   Rigid3d T_other_cur;
@@ -77,10 +107,10 @@ void Backend::Impl::AddCameraFactors(int k, const KeyframeInput& input) {
   record.blocks = {prev.q, prev.t, kf.q, kf.t};
   record.keyframe = k;
   record.keyframe2 = other;
-  graph_.Add(std::move(record));
+  graph_->Add(std::move(record));
 }
 
-void Backend::Impl::AddPointObservations(int k, const KeyframeInput& input) {
+void Trajectory::AddPointObservations(int k, const KeyframeInput& input) {
   KeyframeState& kf = *keyframes_[k];
   const Eigen::Matrix2d sqrt_info =
       Eigen::Matrix2d::Identity() / options_.point_sigma_px;
@@ -98,7 +128,7 @@ void Backend::Impl::AddPointObservations(int k, const KeyframeInput& input) {
       p_w = kf.T_wc() * p_c;
       it = point_index_.emplace(obs.id, static_cast<int>(points_.size())).first;
       points_.push_back(std::move(point));
-      ++statistics_.points;
+      ++statistics_->points;
     }
     FactorRecord record;
     record.cost.reset(
@@ -107,7 +137,7 @@ void Backend::Impl::AddPointObservations(int k, const KeyframeInput& input) {
     record.blocks = {kf.q, kf.t, points_[it->second]->p};
     record.keyframe = k;
     record.point = it->second;
-    graph_.Add(std::move(record));
+    graph_->Add(std::move(record));
     if (obs.depth && options_.point_depth_sigma_relative > 0.0) {
       FactorRecord depth;
       depth.cost.reset(PointDepthFactor::Create(
@@ -116,9 +146,9 @@ void Backend::Impl::AddPointObservations(int k, const KeyframeInput& input) {
       depth.blocks = {kf.q, kf.t, points_[it->second]->p};
       depth.keyframe = k;
       depth.point = it->second;
-      graph_.Add(std::move(depth));
+      graph_->Add(std::move(depth));
     }
   }
 }
 
-}  // namespace symba
+}  // namespace symba::internal

@@ -1,0 +1,186 @@
+// The edges between keyframes and map objects (object_edges.h).
+#include "backend/object_edges.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "symba/common/check.h"
+#include "symba/factors/asymmetric_object_edge.h"
+#include "symba/factors/continuous_object_edge.h"
+#include "symba/factors/discrete_object_edge.h"
+
+namespace symba::internal {
+
+namespace {
+
+std::unique_ptr<ceres::LossFunction> MakeLoss(LossType type, double scale) {
+  switch (type) {
+    case LossType::kNone:
+      return nullptr;
+    case LossType::kHuber:
+      return std::make_unique<ceres::HuberLoss>(scale);
+    case LossType::kCauchy:
+      return std::make_unique<ceres::CauchyLoss>(scale);
+  }
+  return nullptr;
+}
+
+// True if `now` exists and is off `before` (or there is none) by more than
+// `ratio` either way.
+bool Moved(const std::optional<double>& now,
+           const std::optional<double>& before,
+           double ratio) {
+  if (!now) return false;
+  if (!before) return true;
+  const double change = *now / *before;
+  return change > ratio || change < 1.0 / ratio;
+}
+
+}  // namespace
+
+ObjectEdges::ObjectEdges(const BackendOptions& options,
+                         const KeyframeList& keyframes,
+                         ObjectList* objects,
+                         FactorGraph* graph)
+    : options_(options),
+      keyframes_(keyframes),
+      objects_(*objects),
+      graph_(graph),
+      loss_(MakeLoss(options.object_loss, options.object_loss_scale)) {}
+
+void ObjectEdges::Add(int o, ObjectObservation observation) {
+  ObjectState& object = *objects_[o];
+  object.observations.push_back(std::move(observation));
+  AddFactor(o, static_cast<int>(object.observations.size()) - 1);
+}
+
+void ObjectEdges::AddFactor(int o, int i) {
+  const ObjectObservation& observation = objects_[o]->observations[i];
+  FactorRecord record;
+  record.cost = BuildEdge(keyframes_[observation.keyframe].get(),
+                          objects_[o].get(),
+                          observation,
+                          &record.blocks);
+  record.loss = loss_.get();
+  record.keyframe = observation.keyframe;
+  record.object = o;
+  record.observation = i;
+  objects_[o]->observations[i].factor = graph_->Add(std::move(record));
+}
+
+void ObjectEdges::Rebuild(int o) {
+  ObjectState& object = *objects_[o];
+  const int first = graph_->FirstLiveObservation(object);
+  Rebuild(o, first, static_cast<int>(object.observations.size()));
+  object.stale_observations = std::max(object.stale_observations, first);
+}
+
+void ObjectEdges::Rebuild(int o, int begin, int end) {
+  ObjectState& object = *objects_[o];
+  for (int i = begin; i < end; ++i) {
+    ObjectObservation& observation = object.observations[i];
+    if (observation.factor >= 0) graph_->Retire(observation.factor);
+    AddFactor(o, i);
+  }
+}
+
+void ObjectEdges::RebuildStale() {
+  for (size_t o = 0; o < objects_.size(); ++o) {
+    ObjectState& object = *objects_[o];
+    if (object.stale_observations == 0 ||
+        object.status == ObjectStatus::kDropped) {
+      continue;
+    }
+    if (object.type == SymmetryType::kDiscrete) {
+      for (int i = 0; i < object.upgrade_observations; ++i) {
+        if (object.observations[i].angle < 0) object.observations[i].angle = 0;
+      }
+    }
+    Rebuild(static_cast<int>(o), 0, object.stale_observations);
+    object.stale_observations = 0;
+  }
+}
+
+bool ObjectEdges::ApplyNoise(const std::string& class_name,
+                             const ClassNoise& estimate) {
+  // The entry exists from the class's first update on: from then on its
+  // edges are built with the effective noise (BuildEdge).
+  ClassNoise& applied = applied_noise_[class_name];
+  const double ratio = options_.noise_update_ratio;
+  if (!Moved(estimate.sigma_t, applied.sigma_t, ratio) &&
+      !Moved(estimate.sigma_r, applied.sigma_r, ratio)) {
+    return false;
+  }
+  applied = estimate;
+  return true;
+}
+
+ClassNoise ObjectEdges::AppliedNoise(const std::string& class_name) const {
+  const auto it = applied_noise_.find(class_name);
+  return it == applied_noise_.end() ? ClassNoise{} : it->second;
+}
+
+// The edge of one observation for the object's current type (method notes
+// Eq. 14-20): asymmetric 6 DoF on (T_wc, T_wo); discrete on (T_wc, t_wo,
+// a_w, theta_i); continuous (or a continuous view of a discrete object) on
+// (T_wc, t_wo, a_w) with the measured axis signed like the map axis.
+std::unique_ptr<ceres::CostFunction> ObjectEdges::BuildEdge(
+    KeyframeState* kf,
+    ObjectState* object,
+    const ObjectObservation& observation,
+    std::vector<double*>* blocks) const {
+  // The components with the effective noise, once the class's noise was
+  // updated (detection_noise.h); as the detection gave them before.
+  std::vector<PoseComponent> components = observation.components;
+  const auto noise = applied_noise_.find(object->class_name);
+  if (noise != applied_noise_.end()) {
+    const Matrix6d sqrt_info = IsotropicPoseSqrtInfo(
+        EffectiveSigma(
+            observation.sigma_t, observation.claimed_t, noise->second.sigma_t),
+        EffectiveSigma(
+            observation.sigma_r, observation.claimed_r, noise->second.sigma_r));
+    for (PoseComponent& c : components) c.sqrt_info = sqrt_info;
+  }
+  if (object->type == SymmetryType::kAsymmetric) {
+    std::unique_ptr<AsymmetricObjectEdge> edge;
+    Status status =
+        CreateAsymmetricObjectEdge(components, options_.mixture, &edge);
+    *blocks = {kf->q, kf->t, object->q, object->t};
+    SYMBA_CHECK(status.ok()) << status.message();  // inputs were validated
+    return edge;
+  }
+  if (object->type == SymmetryType::kDiscrete && observation.angle >= 0) {
+    std::unique_ptr<DiscreteObjectEdge> edge;
+    Status status = CreateDiscreteObjectEdge(
+        components, object->anchor, options_.mixture, &edge);
+    *blocks = {kf->q,
+               kf->t,
+               object->t,
+               object->a_w,
+               object->thetas[observation.angle].get()};
+    SYMBA_CHECK(status.ok()) << status.message();  // inputs were validated
+    return edge;
+  }
+  std::vector<TranslationComponent> translations;
+  for (const PoseComponent& c : components) {
+    translations.push_back(
+        {c.T_co.t, c.sqrt_info.topLeftCorner<3, 3>(), c.weight});
+  }
+  AxisMeasurement axis;
+  axis.a_c = observation.axis_c.norm() > 0.0
+                 ? observation.axis_c.normalized()
+                 : Eigen::Vector3d(observation.T_co_best.q * object->a_o);
+  if ((kf->T_wc().q * axis.a_c).dot(object->axis_w()) < 0.0) {
+    axis.a_c = -axis.a_c;
+  }
+  axis.sqrt_info = Eigen::Matrix2d::Identity() / options_.axis_sigma;
+  axis.gamma = options_.gamma;
+  std::unique_ptr<ContinuousObjectEdge> edge;
+  Status status =
+      CreateContinuousObjectEdge(translations, axis, options_.mixture, &edge);
+  *blocks = {kf->q, kf->t, object->t, object->a_w};
+  SYMBA_CHECK(status.ok()) << status.message();  // inputs were validated
+  return edge;
+}
+
+}  // namespace symba::internal

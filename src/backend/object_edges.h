@@ -1,0 +1,67 @@
+// The edges between keyframes and map objects in the factor graph
+// (docs/architecture.md): one per object observation, built for the
+// object's current type, anchor and its class's detection noise, and
+// rebuilt when any of these changes. It owns the noise each class's edges
+// are built with and the objects' loss; it changes only the observations'
+// factor bookkeeping (ObjectObservation::factor, stale_observations). Not
+// installed.
+#ifndef SYMBA_SRC_BACKEND_OBJECT_EDGES_H_
+#define SYMBA_SRC_BACKEND_OBJECT_EDGES_H_
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <ceres/cost_function.h>
+#include <ceres/loss_function.h>
+
+#include "backend/backend_state.h"
+#include "backend/detection_noise.h"
+#include "backend/factor_graph.h"
+
+namespace symba::internal {
+
+class ObjectEdges {
+ public:
+  // The containers and the graph are the backend's and must outlive this.
+  ObjectEdges(const BackendOptions& options,
+              const KeyframeList& keyframes,
+              ObjectList* objects,
+              FactorGraph* graph);
+
+  // Object o's next observation and its edge.
+  void Add(int o, ObjectObservation observation);
+  // Rebuilds the edges of object o's observations still in the window (all
+  // under condition); the older ones become stale (ObjectState).
+  void Rebuild(int o);
+  // The batch solve first rebuilds every stale edge.
+  void RebuildStale();
+  // The noise the edges of `class_name` are built with from now on, if it
+  // moved by more than noise_update_ratio from the applied one; true if so:
+  // the class's edges must then be rebuilt.
+  bool ApplyNoise(const std::string& class_name, const ClassNoise& estimate);
+  // The noise applied to the class's edges (empty sigmas: none yet).
+  ClassNoise AppliedNoise(const std::string& class_name) const;
+
+ private:
+  // The edge of object o's observation i.
+  void AddFactor(int o, int i);
+  void Rebuild(int o, int begin, int end);
+  std::unique_ptr<ceres::CostFunction> BuildEdge(
+      KeyframeState* keyframe,
+      ObjectState* object,
+      const ObjectObservation& observation,
+      std::vector<double*>* blocks) const;
+
+  const BackendOptions& options_;
+  const KeyframeList& keyframes_;
+  ObjectList& objects_;
+  FactorGraph* graph_;
+  std::unique_ptr<ceres::LossFunction> loss_;
+  std::map<std::string, ClassNoise> applied_noise_;
+};
+
+}  // namespace symba::internal
+
+#endif  // SYMBA_SRC_BACKEND_OBJECT_EDGES_H_

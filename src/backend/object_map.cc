@@ -1,0 +1,341 @@
+// The backend's map objects: lifecycle, upgrades, angles, re-anchoring and
+// the detector's noise samples (object_map.h).
+#include "backend/object_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "backend/upgrade_evidence.h"
+#include "symba/geometry/pi.h"
+#include "symba/geometry/swing_twist.h"
+
+namespace symba::internal {
+
+ObjectMap::ObjectMap(const BackendOptions& options,
+                     const std::map<std::string, ClassPrior>& class_priors,
+                     FactorGraph* graph,
+                     BackendStatistics* statistics,
+                     std::vector<DetectionAssignment>* assignments)
+    : options_(options),
+      class_priors_(class_priors),
+      graph_(graph),
+      statistics_(statistics),
+      assignments_(assignments),
+      noise_(options.noise_window, options.noise_min_samples) {}
+
+const ClassPrior* ObjectMap::PriorOf(const std::string& class_name) const {
+  const auto it = class_priors_.find(class_name);
+  return it == class_priors_.end() ? nullptr : &it->second;
+}
+
+const std::vector<int>& ObjectMap::ObjectsOfClass(
+    const std::string& class_name) const {
+  static const std::vector<int> kNone;
+  const auto it = objects_by_class_.find(class_name);
+  return it == objects_by_class_.end() ? kNone : it->second;
+}
+
+// ---------------------------------------------------------------------------
+// Lifecycle.
+
+int ObjectMap::Create(const std::string& class_name,
+                      SymmetryType type,
+                      const Rigid3d& T_wo,
+                      int k) {
+  auto object = std::make_unique<ObjectState>();
+  object->id = static_cast<int>(objects_.size());
+  object->class_name = class_name;
+  object->type = type;
+  object->created_keyframe = k;
+  objects_.push_back(std::move(object));
+  ObjectState& created = *objects_.back();
+  WritePose(T_wo, created.q, created.t);
+  graph_->SetManifold(created.q, &quaternion_manifold_);
+  graph_->SetManifold(created.a_w, &axis_manifold_);
+  objects_by_class_[class_name].push_back(created.id);
+  if (options_.confirm_keyframes > 1) {
+    created.status = ObjectStatus::kTentative;
+    tentative_.push_back(created.id);
+  } else {
+    ++statistics_->objects;
+  }
+  return created.id;
+}
+
+int ObjectMap::CreateSymba(const std::string& class_name,
+                           const CategorizedDetection& cat,
+                           const Rigid3d& T_wc,
+                           int k) {
+  const Rigid3d T_wo_base = T_wc * cat.T_co_base;
+  const int o = Create(class_name, cat.type, T_wo_base, k);
+  ObjectState& object = *objects_[o];
+  if (cat.type != SymmetryType::kAsymmetric) {
+    object.a_o = cat.axis_o.normalized();
+    object.anchor = SymmetryAnchor::FromObjectRotation(T_wo_base.q, object.a_o);
+    Eigen::Map<Eigen::Vector3d>(object.a_w) = object.anchor.a_w0;
+  }
+  return o;
+}
+
+void ObjectMap::NoteDetection(int o,
+                              int k,
+                              int assignment,
+                              const Eigen::Vector3d& t_co) {
+  ObjectState& object = *objects_[o];
+  ++object.detections;
+  object.assignments.push_back(assignment);
+  if (object.last_keyframe != k) {
+    object.last_keyframe = k;
+    ++object.keyframes_seen;
+  }
+  const double distance = t_co.norm();
+  if (!(distance > 0.0)) return;
+  view_cone_cos_ = std::min(view_cone_cos_, t_co.z() / distance);
+  view_depth_ = std::max(view_depth_, distance);
+}
+
+void ObjectMap::UpdateTentative(int k) {
+  size_t kept = 0;
+  for (int o : tentative_) {
+    ObjectState& object = *objects_[o];
+    if (object.keyframes_seen >= options_.confirm_keyframes) {
+      object.status = ObjectStatus::kConfirmed;
+      ++statistics_->objects;
+    } else if (k - object.last_keyframe >= options_.tentative_timeout) {
+      Drop(o);
+    } else {
+      tentative_[kept++] = o;
+    }
+  }
+  tentative_.resize(kept);
+}
+
+void ObjectMap::PruneUnsupported(int k, const Rigid3d& T_wc) {
+  const Rigid3d T_cw = T_wc.Inverse();
+  for (size_t o = 0; o < objects_.size(); ++o) {
+    ObjectState& object = *objects_[o];
+    if (object.status != ObjectStatus::kConfirmed) continue;
+    const Eigen::Vector3d p_c = T_cw * object.position();
+    const double distance = p_c.norm();
+    const bool detected = object.last_keyframe == k;
+    const bool in_view =
+        detected || (distance > 0.0 && distance <= view_depth_ &&
+                     p_c.z() >= view_cone_cos_ * distance);
+    if (!in_view) continue;
+    ++object.keyframes_in_view;
+    if (detected) ++object.keyframes_seen_in_view;
+    if (object.keyframes_in_view >= options_.min_support_views &&
+        object.keyframes_seen_in_view <
+            options_.min_support * object.keyframes_in_view) {
+      Drop(static_cast<int>(o));
+      --statistics_->objects;
+    }
+  }
+}
+
+void ObjectMap::Drop(int o) {
+  ObjectState& object = *objects_[o];
+  object.status = ObjectStatus::kDropped;
+  for (ObjectObservation& observation : object.observations) {
+    if (observation.factor >= 0) graph_->Retire(observation.factor);
+    observation.factor = -1;
+  }
+  if (object.prior_factor >= 0) graph_->Retire(object.prior_factor);
+  object.prior_factor = -1;
+  for (int a : object.assignments) (*assignments_)[a].object = -1;
+  ++statistics_->objects_dropped;
+}
+
+// ---------------------------------------------------------------------------
+// Upgrades and angles.
+
+bool ObjectMap::RecordFlip(int o, int k, const SymbaMatch& match) {
+  ObjectState& object = *objects_[o];
+  FlipEvidence flip;
+  flip.keyframe = k;
+  flip.a_o = match.a_o;
+  flip.angle = match.flip_angle;
+  object.flips.push_back(flip);
+  const FlipConsensus consensus = ConsistentFlips(
+      object.flips, flip, options_.gate_axis, options_.gate_angle);
+  const ClassPrior* prior = PriorOf(object.class_name);
+  int order = 0;
+  if (prior && prior->symmetry == SymmetryType::kDiscrete) {
+    if (FitsOrder(consensus.mean_angle,
+                  prior->order,
+                  options_.upgrade_angle_tolerance)) {
+      order = prior->order;
+    }
+  } else {
+    order = PlausibleOrder(consensus.mean_angle,
+                           options_.max_upgrade_order,
+                           options_.upgrade_angle_tolerance);
+  }
+  // keyframes_seen counts this keyframe only after the detection.
+  const int seen = object.keyframes_seen + (object.last_keyframe == k ? 0 : 1);
+  if (consensus.count < options_.upgrade_evidence ||
+      consensus.count < options_.upgrade_min_fraction * seen || order == 0) {
+    ++statistics_->rotation_outliers;
+    return false;
+  }
+  UpgradeRecord record;
+  record.keyframe = k;
+  record.evidence = consensus.count;
+  record.order = order;
+  record.angle = consensus.mean_angle;
+  Upgrade(o, SymmetryType::kDiscrete, match.a_o, record);
+  return true;
+}
+
+void ObjectMap::Upgrade(int o,
+                        SymmetryType type,
+                        const Eigen::Vector3d& a_o,
+                        const UpgradeRecord& record) {
+  ObjectState& object = *objects_[o];
+  object.upgrade = record;
+  object.upgrade->type = type;
+  object.flips.clear();
+  // The prior's rotation of the asymmetric object has no counterpart in
+  // the symmetric parameters: it is marginalised out of the prior, whose
+  // information on the position stays (docs/backend.md "The window").
+  graph_->RemoveFromObjectPrior(o, {object.q});
+  const Eigen::Quaterniond R_wo = object.Rotation(-1);
+  object.type = type;
+  object.a_o = a_o.normalized();
+  object.anchor = SymmetryAnchor::FromObjectRotation(R_wo, object.a_o);
+  Eigen::Map<Eigen::Vector3d>(object.a_w) = object.anchor.a_w0;
+  if (type == SymmetryType::kDiscrete) {
+    // The asymmetric pose is angle 0; every past observation constrains it.
+    object.thetas.push_back(std::make_unique<double>(0.0));
+    object.upgrade_observations = static_cast<int>(object.observations.size());
+    for (size_t i = graph_->FirstLiveObservation(object);
+         i < object.observations.size();
+         ++i) {
+      object.observations[i].angle = 0;
+    }
+  }
+  ++statistics_->object_upgrades;
+}
+
+int ObjectMap::KnownOrder(int o) const {
+  const ObjectState& object = *objects_[o];
+  const ClassPrior* prior = PriorOf(object.class_name);
+  if (prior == nullptr || prior->symmetry != SymmetryType::kDiscrete ||
+      prior->order < 2 || !(prior->axis_o.norm() > 0.0)) {
+    return 0;
+  }
+  const double alignment =
+      std::abs(prior->axis_o.normalized().dot(Eigen::Vector3d(object.a_o)));
+  return alignment >= std::cos(options_.gate_axis) ? prior->order : 0;
+}
+
+// Folding: only a detection that shows one mode folds (the modes of one
+// detection showing several open the angles between them, tied by its
+// edges). R_wo' = R_wo Rot(a_o, -m step) is the same physical pose (a
+// symmetry of the class), so every component is turned alike in the object
+// frame, T_co' = T_co (Rot(a_o, -m step), 0); positions and the measured
+// axis R_co a_o are unchanged.
+int ObjectMap::MatchOrAddAngle(int o,
+                               const Rigid3d& T_wc,
+                               bool may_fold,
+                               ObjectObservation* observation) {
+  ObjectState& object = *objects_[o];
+  const Eigen::Quaterniond R_wo = (T_wc * observation->T_co_best).q;
+  const int angle = FindAngle(object, R_wo, options_.gate_angle);
+  if (angle >= 0) return angle;
+  const int order = may_fold ? KnownOrder(o) : 0;
+  if (order > 0) {
+    const FoldedAngle folded =
+        FoldToAngle(object, R_wo, order, options_.gate_angle);
+    if (folded.angle >= 0) {
+      const Eigen::Quaterniond turn(Eigen::AngleAxisd(
+          -folded.multiple * kTwoPi / order, Eigen::Vector3d(object.a_o)));
+      observation->T_co_best.q = (observation->T_co_best.q * turn).normalized();
+      for (PoseComponent& component : observation->components) {
+        component.T_co.q = (component.T_co.q * turn).normalized();
+      }
+      ++statistics_->folded_angles;
+      return folded.angle;
+    }
+  }
+  object.thetas.push_back(
+      std::make_unique<double>(NewAngleTheta(object, R_wo)));
+  return static_cast<int>(object.thetas.size()) - 1;
+}
+
+bool ObjectMap::ReanchorIfDrifted(int o) {
+  ObjectState& object = *objects_[o];
+  if (object.type != SymmetryType::kDiscrete) return false;
+  const Eigen::Vector3d a_w = object.axis_w();
+  if (std::acos(std::min(1.0, a_w.dot(object.anchor.a_w0))) <=
+      options_.reanchor_angle) {
+    return false;
+  }
+  // R_wo_i is unchanged: Swing(a_w -> a_w) = I absorbs the old swing.
+  object.anchor.q_base =
+      (MinimalRotation(object.anchor.a_w0, a_w) * object.anchor.q_base)
+          .normalized();
+  object.anchor.a_w0 = object.anchor.q_base * object.anchor.a_o;
+  Eigen::Map<Eigen::Vector3d>(object.a_w) = object.anchor.a_w0;
+  // The angles now measure from another base: out of the prior.
+  std::vector<double*> thetas;
+  for (const auto& theta : object.thetas) thetas.push_back(theta.get());
+  graph_->RemoveFromObjectPrior(o, thetas);
+  return true;
+}
+
+// ---------------------------------------------------------------------------
+// The detector's noise (detection_noise.h).
+
+void ObjectMap::SampleNoise(int o,
+                            int k,
+                            const Rigid3d& T_wc_chain,
+                            const Eigen::Vector3d& t_co,
+                            const std::optional<Eigen::Quaterniond>& R_co) {
+  using Kind = DetectionNoiseEstimator::Kind;
+  ObjectState& object = *objects_[o];
+  const Eigen::Vector3d p = T_wc_chain * t_co;
+  const bool sample = object.status == ObjectStatus::kConfirmed;
+  const bool consecutive = object.chain_last_keyframe == k - 1;
+  if (sample && object.chain_count > 0) {
+    noise_.AddTranslation(
+        object.class_name,
+        Kind::kLevel,
+        (p - object.chain_position_sum / object.chain_count).norm());
+    if (consecutive) {
+      noise_.AddTranslation(object.class_name,
+                            Kind::kIncrement,
+                            (p - object.chain_last_position).norm());
+    }
+  }
+  object.chain_position_sum += p;
+  ++object.chain_count;
+  object.chain_last_position = p;
+  object.chain_last_keyframe = k;
+  if (!R_co || object.type != SymmetryType::kAsymmetric) {
+    object.chain_last_rotation.reset();
+    return;
+  }
+  Eigen::Quaterniond R = (T_wc_chain.q * *R_co).normalized();
+  if (object.chain_rotation_count > 0) {
+    const Eigen::Quaterniond mean(
+        Eigen::Vector4d(object.chain_rotation_sum.normalized()));
+    if (sample) {
+      noise_.AddRotation(
+          object.class_name, Kind::kLevel, mean.angularDistance(R));
+      if (consecutive && object.chain_last_rotation) {
+        noise_.AddRotation(object.class_name,
+                           Kind::kIncrement,
+                           object.chain_last_rotation->angularDistance(R));
+      }
+    }
+    // The sum averages quaternions of one sign.
+    if (mean.coeffs().dot(R.coeffs()) < 0.0) R.coeffs() = -R.coeffs();
+  }
+  object.chain_rotation_sum += R.coeffs();
+  ++object.chain_rotation_count;
+  object.chain_last_rotation = R;
+}
+
+}  // namespace symba::internal

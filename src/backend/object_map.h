@@ -1,0 +1,124 @@
+// The backend's map objects (method notes Sec. 5; docs/architecture.md): it
+// owns every object's estimate and lifecycle (created from a first
+// detection, tentative until confirmed, dropped when unsupported), the
+// upgrades from asymmetric to symmetric, a discrete object's angles and its
+// re-anchoring, and the samples of the detector's noise taken from its
+// detections. It changes objects only; their edges are ObjectEdges' and the
+// caller rebuilds them where a step says the object changed. Not installed.
+#ifndef SYMBA_SRC_BACKEND_OBJECT_MAP_H_
+#define SYMBA_SRC_BACKEND_OBJECT_MAP_H_
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <ceres/manifold.h>
+
+#include "backend/association.h"
+#include "backend/backend_state.h"
+#include "backend/detection_noise.h"
+#include "backend/factor_graph.h"
+#include "symba/backend/backend.h"
+#include "symba/manifolds/axis_manifold.h"
+
+namespace symba::internal {
+
+class ObjectMap {
+ public:
+  // `graph`, `statistics` and `assignments` are the backend's; the graph is
+  // not used before the first object is created.
+  ObjectMap(const BackendOptions& options,
+            const std::map<std::string, ClassPrior>& class_priors,
+            FactorGraph* graph,
+            BackendStatistics* statistics,
+            std::vector<DetectionAssignment>* assignments);
+
+  const ObjectList& objects() const { return objects_; }
+  // The objects themselves, for the edges' bookkeeping (ObjectEdges).
+  ObjectList& mutable_objects() { return objects_; }
+  const ClassPrior* PriorOf(const std::string& class_name) const;
+  // The objects of a class, dropped ones included.
+  const std::vector<int>& ObjectsOfClass(const std::string& class_name) const;
+  const DetectionNoiseEstimator& noise() const { return noise_; }
+
+  // A new object of `class_name` at T_wo, first detected in keyframe k;
+  // tentative when confirm_keyframes > 1. A symmetric one's axis and anchor
+  // are the caller's to set.
+  int Create(const std::string& class_name,
+             SymmetryType type,
+             const Rigid3d& T_wo,
+             int k);
+  // symba: a new object at the categorized detection's base pose seen from
+  // T_wc, with its axis and anchor if symmetric.
+  int CreateSymba(const std::string& class_name,
+                  const CategorizedDetection& cat,
+                  const Rigid3d& T_wc,
+                  int k);
+  // A detection of object o in keyframe k, reported as assignment a, seen at
+  // t_co (its bearing and depth widen the view cone).
+  void NoteDetection(int o, int k, int assignment, const Eigen::Vector3d& t_co);
+  // Confirms tentative objects with enough keyframes and drops those whose
+  // timeout passed (bounded by the tentative objects).
+  void UpdateTentative(int k);
+  // Counts keyframe k (camera T_wc) for every confirmed object in view and
+  // drops those detected in too few of their views (min_support).
+  void PruneUnsupported(int k, const Rigid3d& T_wc);
+
+  // symba: a flip of object o joins it without an edge, or upgrades it once
+  // the evidence suffices (upgrade_evidence.h). True if it upgraded: its
+  // edges must then be rebuilt.
+  bool RecordFlip(int o, int k, const SymbaMatch& match);
+  // Object o becomes `type` about a_o (object frame); its edges must then be
+  // rebuilt.
+  void Upgrade(int o,
+               SymmetryType type,
+               const Eigen::Vector3d& a_o,
+               const UpgradeRecord& record);
+  // The angle of discrete object o that `observation` (seen from T_wc)
+  // constrains: the nearest within gate_angle; else, if `may_fold` (the
+  // detection shows one mode) and the class prior gives the order, the
+  // nearest modulo 2 pi / order, the observation then turned by that
+  // multiple about a_o; else a new angle.
+  int MatchOrAddAngle(int o,
+                      const Rigid3d& T_wc,
+                      bool may_fold,
+                      ObjectObservation* observation);
+  // A discrete object whose axis drifted beyond reanchor_angle from its
+  // anchor gets a new anchor; true if so: its edges must then be rebuilt.
+  bool ReanchorIfDrifted(int o);
+
+  // A detection of object o in keyframe k (its position, and its rotation
+  // where it has one) as noise samples of the class, taken at the front
+  // end's pose of the keyframe, T_wc_chain (detection_noise.h).
+  void SampleNoise(int o,
+                   int k,
+                   const Rigid3d& T_wc_chain,
+                   const Eigen::Vector3d& t_co,
+                   const std::optional<Eigen::Quaterniond>& R_co);
+
+ private:
+  void Drop(int o);
+  // The class prior's symmetry order when it applies to object o (discrete
+  // prior, order >= 2, axis along the object's a_o), else 0.
+  int KnownOrder(int o) const;
+
+  const BackendOptions& options_;
+  std::map<std::string, ClassPrior> class_priors_;
+  FactorGraph* graph_;
+  BackendStatistics* statistics_;
+  std::vector<DetectionAssignment>* assignments_;
+  ceres::EigenQuaternionManifold quaternion_manifold_;
+  AxisManifold axis_manifold_;
+
+  ObjectList objects_;
+  std::map<std::string, std::vector<int>> objects_by_class_;
+  std::vector<int> tentative_;  // indices
+  double view_cone_cos_ = 1.0;  // cos of the widest detection bearing
+  double view_depth_ = 0.0;     // the largest detection distance (m)
+  DetectionNoiseEstimator noise_;
+};
+
+}  // namespace symba::internal
+
+#endif  // SYMBA_SRC_BACKEND_OBJECT_MAP_H_

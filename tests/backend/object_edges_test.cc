@@ -1,0 +1,164 @@
+// The object edges on their own (src/backend/object_edges.h): the factor
+// each observation gets, its blocks per object type, what a rebuild
+// retires, and the noise an edge is weighed with once its class has an
+// estimate (a detection's own sigma is kept; otherwise the larger of the
+// observation's and the estimate).
+#include "backend/object_edges.h"
+
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include <ceres/manifold.h>
+#include <gtest/gtest.h>
+
+#include "symba/factors/pose_component.h"
+
+namespace symba::internal {
+namespace {
+
+class ObjectEdgesTest : public ::testing::Test {
+ protected:
+  ObjectEdgesTest()
+      : graph_(options_, keyframes_, objects_, points_, &statistics_),
+        edges_(options_, keyframes_, &objects_, &graph_) {
+    // One camera at the origin and one asymmetric object of class "box"
+    // 1 m in front of it (z), seen 0.1 m off along x by its detections.
+    keyframes_.push_back(std::make_unique<KeyframeState>());
+    graph_.SetManifold(keyframes_[0]->q, &quaternion_);
+    auto object = std::make_unique<ObjectState>();
+    object->class_name = "box";
+    WritePose(Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, 1)),
+              object->q,
+              object->t);
+    graph_.SetManifold(object->q, &quaternion_);
+    objects_.push_back(std::move(object));
+  }
+
+  // A detection at t_co = (0.1, 0, 1) with its components weighed by
+  // `component_sigma_t` and the observation's noise sigma_t (claimed or
+  // not).
+  static ObjectObservation Observation(double component_sigma_t,
+                                       double sigma_t,
+                                       bool claimed) {
+    ObjectObservation observation;
+    observation.keyframe = 0;
+    observation.T_co_best =
+        Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.1, 0, 1));
+    PoseComponent component;
+    component.T_co = observation.T_co_best;
+    component.sqrt_info = IsotropicPoseSqrtInfo(component_sigma_t, 0.1);
+    observation.components = {component};
+    observation.sigma_t = sigma_t;
+    observation.sigma_r = 0.1;
+    observation.claimed_t = claimed;
+    observation.claimed_r = claimed;
+    return observation;
+  }
+
+  // The norm of the translation part of observation i's residual at the
+  // current estimate (0.1 m off): 0.1 / the sigma it is weighed with.
+  double TranslationResidual(int i) const {
+    const FactorRecord& record =
+        graph_.factor(objects_[0]->observations[i].factor);
+    std::vector<double> residuals(record.cost->num_residuals());
+    std::vector<const double*> blocks(record.blocks.begin(),
+                                      record.blocks.end());
+    EXPECT_TRUE(
+        record.cost->Evaluate(blocks.data(), residuals.data(), nullptr));
+    return Eigen::Map<const Eigen::Vector3d>(residuals.data()).norm();
+  }
+
+  BackendOptions options_;
+  KeyframeList keyframes_;
+  ObjectList objects_;
+  PointList points_;
+  BackendStatistics statistics_;
+  ceres::EigenQuaternionManifold quaternion_;
+  FactorGraph graph_;
+  ObjectEdges edges_;
+};
+
+TEST_F(ObjectEdgesTest, AnAsymmetricObjectsEdgeJoinsCameraAndObjectPoses) {
+  edges_.Add(0, Observation(0.05, 0.05, true));
+  ASSERT_EQ(objects_[0]->observations.size(), 1u);
+  const int f = objects_[0]->observations[0].factor;
+  ASSERT_GE(f, 0);
+  const FactorRecord& record = graph_.factor(f);
+  EXPECT_EQ(record.object, 0);
+  EXPECT_EQ(record.observation, 0);
+  EXPECT_EQ(record.keyframe, 0);
+  const std::vector<double*> blocks = {
+      keyframes_[0]->q, keyframes_[0]->t, objects_[0]->q, objects_[0]->t};
+  EXPECT_EQ(record.blocks, blocks);
+  EXPECT_NEAR(TranslationResidual(0), 0.1 / 0.05, 1e-9);
+}
+
+TEST_F(ObjectEdgesTest, ADiscreteObjectsEdgeHoldsItsAngle) {
+  ObjectState& object = *objects_[0];
+  object.type = SymmetryType::kDiscrete;
+  object.a_o = Eigen::Vector3d::UnitZ();
+  object.anchor = SymmetryAnchor::FromObjectRotation(
+      Eigen::Quaterniond::Identity(), object.a_o);
+  object.thetas.push_back(std::make_unique<double>(0.0));
+  object.thetas.push_back(std::make_unique<double>(1.0));
+  ObjectObservation observation = Observation(0.05, 0.05, true);
+  observation.angle = 1;
+  edges_.Add(0, observation);
+  const std::vector<double*> blocks = {keyframes_[0]->q,
+                                       keyframes_[0]->t,
+                                       object.t,
+                                       object.a_w,
+                                       object.thetas[1].get()};
+  EXPECT_EQ(graph_.factor(object.observations[0].factor).blocks, blocks);
+}
+
+// A rebuild retires the old factor for a new one.
+TEST_F(ObjectEdgesTest, RebuildReplacesEveryLiveEdge) {
+  edges_.Add(0, Observation(0.05, 0.05, true));
+  edges_.Add(0, Observation(0.05, 0.05, true));
+  const int first = objects_[0]->observations[0].factor;
+  const int second = objects_[0]->observations[1].factor;
+  edges_.Rebuild(0);
+  EXPECT_TRUE(graph_.factor(first).retired);
+  EXPECT_TRUE(graph_.factor(second).retired);
+  EXPECT_EQ(objects_[0]->observations[0].factor, second + 1);
+  EXPECT_EQ(objects_[0]->observations[1].factor, second + 2);
+  EXPECT_FALSE(graph_.factor(second + 1).retired);
+  EXPECT_EQ(objects_[0]->stale_observations, 0);
+}
+
+// noise_update_ratio 1.25: the first estimate applies, one within the ratio
+// does not, one beyond it does.
+TEST_F(ObjectEdgesTest, NoiseAppliesOnlyWhenItMovesBeyondTheRatio) {
+  EXPECT_FALSE(edges_.AppliedNoise("box").sigma_t.has_value());
+  EXPECT_TRUE(edges_.ApplyNoise("box", ClassNoise{0.2, std::nullopt}));
+  EXPECT_EQ(edges_.AppliedNoise("box").sigma_t, 0.2);
+  EXPECT_FALSE(edges_.ApplyNoise("box", ClassNoise{0.24, std::nullopt}));
+  EXPECT_EQ(edges_.AppliedNoise("box").sigma_t, 0.2);
+  EXPECT_TRUE(edges_.ApplyNoise("box", ClassNoise{0.26, 0.3}));
+  EXPECT_EQ(edges_.AppliedNoise("box").sigma_t, 0.26);
+  EXPECT_EQ(edges_.AppliedNoise("box").sigma_r, 0.3);
+  EXPECT_FALSE(edges_.ApplyNoise("box", ClassNoise{}));
+  EXPECT_FALSE(edges_.AppliedNoise("chair").sigma_t.has_value());
+}
+
+// Before the class has an estimate the components weigh as the detection
+// gave them; after, an unclaimed observation weighs with the larger of its
+// own sigma and the estimate, a claimed one with its own.
+TEST_F(ObjectEdgesTest, EdgesWeighWithTheEstimateUnlessTheDetectionClaims) {
+  edges_.Add(0, Observation(0.05, 0.01, false));  // estimate wins
+  edges_.Add(0, Observation(0.05, 2.0, false));   // its own (a floor) wins
+  edges_.Add(0, Observation(0.05, 0.02, true));   // claimed: its own
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(TranslationResidual(i), 0.1 / 0.05, 1e-9) << i;
+  }
+  ASSERT_TRUE(edges_.ApplyNoise("box", ClassNoise{0.5, 0.2}));
+  edges_.Rebuild(0);
+  EXPECT_NEAR(TranslationResidual(0), 0.1 / 0.5, 1e-9);
+  EXPECT_NEAR(TranslationResidual(1), 0.1 / 2.0, 1e-9);
+  EXPECT_NEAR(TranslationResidual(2), 0.1 / 0.02, 1e-9);
+}
+
+}  // namespace
+}  // namespace symba::internal

@@ -1,0 +1,255 @@
+// The object map on its own (src/backend/object_map.h): tentative objects
+// confirmed or dropped, unsupported objects pruned, flips that upgrade an
+// object, a discrete object's angles (matched, folded by the class prior's
+// order, or new), re-anchoring, and the detector's noise samples.
+#include "backend/object_map.h"
+
+#include <cmath>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "symba/factors/pose_component.h"
+#include "symba/geometry/pi.h"
+
+namespace symba::internal {
+namespace {
+
+Rigid3d At(double x, double y, double z) {
+  return Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(x, y, z));
+}
+
+Eigen::Quaterniond AboutZ(double angle) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()));
+}
+
+// The map and the graph over its objects, built as the backend builds them
+// (the map keeps the graph's address until the graph exists).
+struct MapAndGraph {
+  MapAndGraph(const BackendOptions& options,
+              const std::map<std::string, ClassPrior>& priors,
+              const KeyframeList& keyframes,
+              const PointList& points,
+              BackendStatistics* statistics,
+              std::vector<DetectionAssignment>* assignments)
+      : map(options, priors, &graph, statistics, assignments),
+        graph(options, keyframes, map.objects(), points, statistics) {}
+  ObjectMap map;
+  FactorGraph graph;
+};
+
+class ObjectMapTest : public ::testing::Test {
+ protected:
+  void Build(const BackendOptions& options,
+             const std::map<std::string, ClassPrior>& priors = {}) {
+    options_ = options;
+    parts_ = std::make_unique<MapAndGraph>(
+        options_, priors, keyframes_, points_, &statistics_, &assignments_);
+    map_ = &parts_->map;
+  }
+  // A detection of object o in keyframe k, 2 m ahead of the camera.
+  void Detect(int o, int k) {
+    assignments_.push_back(
+        {k, std::to_string(k), o, SymmetryType::kAsymmetric});
+    map_->NoteDetection(o,
+                        k,
+                        static_cast<int>(assignments_.size()) - 1,
+                        Eigen::Vector3d(0, 0, 2));
+  }
+  // Object o as a discrete object about z with one angle, theta 0.
+  void MakeDiscrete(int o) {
+    map_->Upgrade(o, SymmetryType::kDiscrete, Eigen::Vector3d::UnitZ(), {});
+  }
+
+  BackendOptions options_;
+  KeyframeList keyframes_;
+  PointList points_;
+  BackendStatistics statistics_;
+  std::vector<DetectionAssignment> assignments_;
+  std::unique_ptr<MapAndGraph> parts_;
+  ObjectMap* map_ = nullptr;
+};
+
+TEST_F(ObjectMapTest, ATentativeObjectIsConfirmedOrDroppedWithItsDetections) {
+  BackendOptions options;
+  options.confirm_keyframes = 3;
+  options.tentative_timeout = 4;
+  Build(options);
+  const int kept =
+      map_->Create("box", SymmetryType::kAsymmetric, At(1, 2, 3), 0);
+  const int lost =
+      map_->Create("box", SymmetryType::kAsymmetric, At(5, 0, 0), 0);
+  EXPECT_EQ(map_->objects()[kept]->position(), Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(map_->ObjectsOfClass("box"), (std::vector<int>{kept, lost}));
+  EXPECT_TRUE(map_->ObjectsOfClass("chair").empty());
+  Detect(kept, 0);
+  Detect(lost, 0);
+  for (int k = 1; k <= 4; ++k) {
+    if (k <= 2) Detect(kept, k);
+    map_->UpdateTentative(k);
+    EXPECT_EQ(map_->objects()[kept]->status,
+              k < 2 ? ObjectStatus::kTentative : ObjectStatus::kConfirmed)
+        << k;
+  }
+  EXPECT_EQ(map_->objects()[lost]->status, ObjectStatus::kDropped);
+  EXPECT_EQ(statistics_.objects, 1);
+  EXPECT_EQ(statistics_.objects_dropped, 1);
+  EXPECT_EQ(assignments_[1].object, -1);  // the dropped object's detection
+  EXPECT_EQ(assignments_[0].object, kept);
+  EXPECT_EQ(map_->objects()[kept]->detections, 3);
+  EXPECT_EQ(map_->objects()[kept]->keyframes_seen, 3);
+}
+
+// min_support 0.5 over 4 views: an object in view (inside the cone and
+// depth detections were seen in) but detected in 1 of 4 keyframes is
+// dropped; one out of view is not counted.
+TEST_F(ObjectMapTest, AnObjectInViewButRarelyDetectedIsPruned) {
+  BackendOptions options;
+  options.confirm_keyframes = 1;
+  options.min_support = 0.5;
+  options.min_support_views = 4;
+  Build(options);
+  const int ghost =
+      map_->Create("box", SymmetryType::kAsymmetric, At(0, 0, 2), 0);
+  const int behind =
+      map_->Create("box", SymmetryType::kAsymmetric, At(0, 0, -2), 0);
+  Detect(ghost, 0);
+  for (int k = 0; k < 4; ++k) {
+    map_->PruneUnsupported(k, Rigid3d());
+    EXPECT_EQ(map_->objects()[ghost]->status,
+              k < 3 ? ObjectStatus::kConfirmed : ObjectStatus::kDropped)
+        << k;
+  }
+  EXPECT_EQ(map_->objects()[behind]->keyframes_in_view, 0);
+  EXPECT_EQ(map_->objects()[behind]->status, ObjectStatus::kConfirmed);
+  EXPECT_EQ(statistics_.objects, 1);
+}
+
+// upgrade_evidence 2: the first flip by pi about z is an outlier, the
+// second, in another keyframe, upgrades the object to discrete of order 2.
+TEST_F(ObjectMapTest, RepeatedFlipsUpgradeAnAsymmetricObject) {
+  BackendOptions options;
+  options.confirm_keyframes = 1;
+  options.upgrade_evidence = 2;
+  options.upgrade_min_fraction = 0.0;
+  Build(options);
+  const int o =
+      map_->Create("table", SymmetryType::kAsymmetric, At(0, 0, 2), 0);
+  SymbaMatch flip;
+  flip.object = o;
+  flip.flip = true;
+  flip.a_o = Eigen::Vector3d::UnitZ();
+  flip.flip_angle = kPi;
+  EXPECT_FALSE(map_->RecordFlip(o, 1, flip));
+  EXPECT_EQ(statistics_.rotation_outliers, 1);
+  EXPECT_TRUE(map_->RecordFlip(o, 2, flip));
+  const ObjectState& object = *map_->objects()[o];
+  EXPECT_EQ(object.type, SymmetryType::kDiscrete);
+  ASSERT_TRUE(object.upgrade.has_value());
+  EXPECT_EQ(object.upgrade->order, 2);
+  EXPECT_EQ(object.upgrade->evidence, 2);
+  EXPECT_EQ(object.upgrade->keyframe, 2);
+  EXPECT_NEAR(object.upgrade->angle, kPi, 1e-12);
+  ASSERT_EQ(object.thetas.size(), 1u);
+  EXPECT_TRUE(object.flips.empty());
+  EXPECT_EQ(statistics_.object_upgrades, 1);
+  // The asymmetric pose is angle 0.
+  EXPECT_LT(object.Rotation(0).angularDistance(Eigen::Quaterniond::Identity()),
+            1e-12);
+}
+
+// A discrete object with angle 0: a detection within gate_angle of it
+// matches it; one turned by pi folds onto it when the class prior says the
+// order is 2 (its rotation turned back by pi); without a prior it opens a
+// new angle.
+TEST_F(ObjectMapTest, AnglesMatchFoldByTheKnownOrderOrOpen) {
+  ClassPrior prior;
+  prior.symmetry = SymmetryType::kDiscrete;
+  prior.order = 2;
+  prior.axis_o = Eigen::Vector3d::UnitZ();
+  BackendOptions options;
+  options.confirm_keyframes = 1;
+  Build(options, {{"table", prior}});
+  const int table =
+      map_->Create("table", SymmetryType::kAsymmetric, At(0, 0, 2), 0);
+  const int other =
+      map_->Create("bench", SymmetryType::kAsymmetric, At(3, 0, 2), 0);
+  MakeDiscrete(table);
+  MakeDiscrete(other);
+  auto observation = [](double angle) {
+    ObjectObservation o;
+    o.T_co_best = Rigid3d(AboutZ(angle), Eigen::Vector3d(0, 0, 2));
+    PoseComponent component;
+    component.T_co = o.T_co_best;
+    o.components = {component};
+    return o;
+  };
+  ObjectObservation near = observation(0.1);
+  EXPECT_EQ(map_->MatchOrAddAngle(table, Rigid3d(), true, &near), 0);
+  ObjectObservation turned = observation(kPi + 0.05);
+  EXPECT_EQ(map_->MatchOrAddAngle(table, Rigid3d(), true, &turned), 0);
+  EXPECT_EQ(statistics_.folded_angles, 1);
+  EXPECT_LT(turned.T_co_best.q.angularDistance(AboutZ(0.05)), 1e-9);
+  EXPECT_LT(turned.components[0].T_co.q.angularDistance(AboutZ(0.05)), 1e-9);
+  // Several modes in one detection never fold.
+  ObjectObservation unfolded = observation(kPi + 0.05);
+  EXPECT_EQ(map_->MatchOrAddAngle(table, Rigid3d(), false, &unfolded), 1);
+  ObjectObservation no_prior = observation(kPi);
+  EXPECT_EQ(map_->MatchOrAddAngle(other, Rigid3d(), true, &no_prior), 1);
+  EXPECT_NEAR(std::abs(*map_->objects()[other]->thetas[1]), kPi, 1e-9);
+}
+
+// An axis 50 deg from its anchor (reanchor_angle 45 deg) is re-anchored at
+// itself; the object's rotations do not move. Within the angle nothing
+// changes.
+TEST_F(ObjectMapTest, ADriftedAxisIsReanchoredWithoutMovingTheObject) {
+  BackendOptions options;
+  options.confirm_keyframes = 1;
+  Build(options);
+  const int o =
+      map_->Create("table", SymmetryType::kAsymmetric, At(0, 0, 2), 0);
+  MakeDiscrete(o);
+  ObjectState& object = *map_->mutable_objects()[o];
+  *object.thetas[0] = 0.3;
+  const Eigen::Vector3d tilted_40(std::sin(0.7), 0, std::cos(0.7));
+  Eigen::Map<Eigen::Vector3d>(object.a_w) = tilted_40;
+  EXPECT_FALSE(map_->ReanchorIfDrifted(o));
+  const Eigen::Vector3d tilted_50(std::sin(0.88), 0, std::cos(0.88));
+  Eigen::Map<Eigen::Vector3d>(object.a_w) = tilted_50;
+  const Eigen::Quaterniond before = object.Rotation(0);
+  EXPECT_TRUE(map_->ReanchorIfDrifted(o));
+  EXPECT_LT((object.anchor.a_w0 - tilted_50).norm(), 1e-12);
+  EXPECT_LT((object.axis_w() - tilted_50).norm(), 1e-12);
+  EXPECT_LT(object.Rotation(0).angularDistance(before), 1e-12);
+}
+
+// Three detections of a confirmed object at chain positions 1, 1.3 and
+// 1.0 m along x (keyframes 0, 1, 3): levels against the running mean
+// |1.3 - 1| and |1.0 - 1.15|, one increment (keyframes 0 -> 1) of 0.3.
+TEST_F(ObjectMapTest, NoiseSamplesAreTakenAtTheFrontEndsPose) {
+  BackendOptions options;
+  options.confirm_keyframes = 1;
+  options.noise_min_samples = 1;
+  Build(options);
+  const int o = map_->Create("box", SymmetryType::kAsymmetric, At(1, 0, 0), 0);
+  map_->SampleNoise(o, 0, At(1, 0, 0), Eigen::Vector3d::Zero(), std::nullopt);
+  map_->SampleNoise(
+      o, 1, At(0.3, 0, 0), Eigen::Vector3d(1, 0, 0), std::nullopt);
+  map_->SampleNoise(o, 3, At(1, 0, 0), Eigen::Vector3d::Zero(), std::nullopt);
+  const NoiseSamplesReport report = map_->noise().TranslationReport("box");
+  EXPECT_EQ(report.levels, 2);
+  EXPECT_EQ(report.increments, 1);
+  ASSERT_TRUE(report.sigma_increment.has_value());
+  EXPECT_NEAR(
+      *report.sigma_increment, 0.3 / (kChi3Median * std::sqrt(2.0)), 1e-12);
+  ASSERT_TRUE(report.sigma_level.has_value());
+  // The median of {0.3, 0.15}.
+  EXPECT_NEAR(*report.sigma_level, 0.225 / kChi3Median, 1e-12);
+  EXPECT_EQ(map_->noise().RotationReport("box").levels, 0);
+}
+
+}  // namespace
+}  // namespace symba::internal

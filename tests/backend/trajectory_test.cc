@@ -1,0 +1,133 @@
+// The keyframes and points on their own (src/backend/trajectory.h): a new
+// keyframe's initial and front-end chain poses, its camera motion factor
+// and the motion variance it predicts with, points created from a first
+// observation with a depth, and keyframes found by id.
+#include "backend/trajectory.h"
+
+#include <memory>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace symba::internal {
+namespace {
+
+Rigid3d At(double x, double y, double z) {
+  return Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(x, y, z));
+}
+
+// The trajectory and the graph over its keyframes and points, built as the
+// backend builds them.
+struct TrajectoryAndGraph {
+  TrajectoryAndGraph(const BackendOptions& options,
+                     const std::optional<PinholeIntrinsics>& intrinsics,
+                     BackendStatistics* statistics)
+      : trajectory(options, intrinsics, &graph, statistics),
+        graph(options,
+              trajectory.keyframes(),
+              objects,
+              trajectory.points(),
+              statistics) {}
+  ObjectList objects;
+  Trajectory trajectory;
+  FactorGraph graph;
+};
+
+class TrajectoryTest : public ::testing::Test {
+ protected:
+  void Build(
+      const std::optional<PinholeIntrinsics>& intrinsics = std::nullopt) {
+    parts_ = std::make_unique<TrajectoryAndGraph>(
+        options_, intrinsics, &statistics_);
+  }
+  Trajectory& trajectory() { return parts_->trajectory; }
+  const FactorRecord& LastFactor(int k) {
+    return parts_->graph.factor(trajectory().keyframes()[k]->factors.back());
+  }
+
+  BackendOptions options_;
+  BackendStatistics statistics_;
+  std::unique_ptr<TrajectoryAndGraph> parts_;
+};
+
+// Odometry chains from the previous keyframe's optimised pose; the chain
+// pose from the previous chain pose, never optimised.
+TEST_F(TrajectoryTest, OdometryMovesTheOptimisedPoseAndTheChain) {
+  Build();
+  KeyframeInput first;
+  first.id = 10;
+  first.T_wc = At(1, 0, 0);
+  EXPECT_EQ(trajectory().Add(first), 0);
+  // As if a solve had moved keyframe 0 by 0.5 m along y.
+  Eigen::Map<Eigen::Vector3d>(trajectory().keyframes()[0]->t) =
+      Eigen::Vector3d(1, 0.5, 0);
+  KeyframeInput second;
+  second.id = 11;
+  second.odometry = Odometry{At(0, 0, 2), 0.1, 0.2};
+  EXPECT_EQ(trajectory().Add(second), 1);
+  const KeyframeState& kf = *trajectory().keyframes()[1];
+  EXPECT_LT((kf.T_wc().t - Eigen::Vector3d(1, 0.5, 2)).norm(), 1e-12);
+  EXPECT_LT((kf.T_wc_chain.t - Eigen::Vector3d(1, 0, 2)).norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(kf.motion_variance_t, 0.1 * 0.1);
+  EXPECT_DOUBLE_EQ(kf.motion_variance_r, 0.2 * 0.2);
+  const FactorRecord& odometry = LastFactor(1);
+  EXPECT_EQ(odometry.keyframe, 1);
+  EXPECT_EQ(odometry.keyframe2, 0);
+  EXPECT_EQ(statistics_.keyframes, 2);
+  EXPECT_EQ(trajectory().Find(11), &kf);
+  EXPECT_EQ(trajectory().Find(12), nullptr);
+}
+
+// Front-end poses: the relative motion since the last keyframe the front
+// end posed, applied to that keyframe's optimised pose, with the options'
+// front-end noise.
+TEST_F(TrajectoryTest, FrontEndPosesChainTheirRelativeMotion) {
+  Build();
+  KeyframeInput first;
+  first.id = 0;
+  first.T_wc = At(0, 0, 0);
+  trajectory().Add(first);
+  Eigen::Map<Eigen::Vector3d>(trajectory().keyframes()[0]->t) =
+      Eigen::Vector3d(0, 0, 1);
+  KeyframeInput second;
+  second.id = 1;
+  second.T_wc = At(3, 0, 0);
+  trajectory().Add(second);
+  const KeyframeState& kf = *trajectory().keyframes()[1];
+  EXPECT_LT((kf.T_wc().t - Eigen::Vector3d(3, 0, 1)).norm(), 1e-12);
+  EXPECT_LT((kf.T_wc_chain.t - Eigen::Vector3d(3, 0, 0)).norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(kf.motion_variance_t,
+                   options_.frontend_sigma_t * options_.frontend_sigma_t);
+  EXPECT_EQ(LastFactor(1).keyframe2, 0);
+}
+
+// A point is created from its first observation with a depth (back-projected
+// through the intrinsics); an observation without one before that adds
+// nothing, after it a reprojection factor.
+TEST_F(TrajectoryTest, PointsAreCreatedFromADepth) {
+  options_.point_depth_sigma_relative = 0.0;  // no depth factors
+  Build(PinholeIntrinsics{100, 100, 50, 50});
+  KeyframeInput first;
+  first.id = 0;
+  first.T_wc = At(1, 0, 0);
+  first.points = {PointObservation{7, Eigen::Vector2d(150, 50), std::nullopt}};
+  trajectory().Add(first);
+  EXPECT_TRUE(trajectory().points().empty());
+  EXPECT_TRUE(trajectory().keyframes()[0]->factors.empty());
+  KeyframeInput second;
+  second.id = 1;
+  second.T_wc = At(1, 0, 0);
+  second.points = {PointObservation{7, Eigen::Vector2d(150, 50), 2.0}};
+  trajectory().Add(second);
+  ASSERT_EQ(trajectory().points().size(), 1u);
+  // (150 - 50) / 100 * 2 = 2 m right of the camera, 2 m ahead.
+  EXPECT_LT((Eigen::Map<const Eigen::Vector3d>(trajectory().points()[0]->p) -
+             Eigen::Vector3d(3, 0, 2))
+                .norm(),
+            1e-12);
+  EXPECT_EQ(LastFactor(1).point, 0);
+  EXPECT_EQ(statistics_.points, 1);
+}
+
+}  // namespace
+}  // namespace symba::internal

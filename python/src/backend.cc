@@ -48,6 +48,32 @@ py::object UpgradeToPython(const MapObjectEstimate& o) {
   return std::move(upgrade);
 }
 
+py::object Matrix3ToPython(const Eigen::Matrix3d& m) {
+  std::vector<double> values(9);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) values[3 * r + c] = m(r, c);
+  }
+  return OwnedArray(std::move(values), {3, 3});
+}
+
+// {id, position, rotation, axis, angle_variances, source}: 3x3 arrays (or
+// None where the type has no such part), a list of floats or None.
+py::dict CovarianceToPython(const MapObjectCovariance& c) {
+  py::dict out;
+  out["id"] = c.id;
+  out["position"] = Matrix3ToPython(c.position);
+  out["rotation"] = c.rotation ? Matrix3ToPython(*c.rotation) : py::none();
+  out["axis"] = c.axis ? Matrix3ToPython(*c.axis) : py::none();
+  py::list variances;
+  for (const std::optional<double>& v : c.angle_variances) {
+    variances.append(v ? py::object(py::float_(*v)) : py::none());
+  }
+  out["angle_variances"] = variances;
+  out["source"] =
+      c.source == MapObjectCovariance::Source::kSolve ? "solve" : "prior";
+  return out;
+}
+
 }  // namespace
 
 void BindEstimates(py::module_& m) {
@@ -101,6 +127,14 @@ void BindEstimates(py::module_& m) {
                              &UpgradeToPython,
                              "None, or {keyframe, evidence, order, angle} "
                              "when an asymmetric object became symmetric.")
+      .def_property_readonly(
+          "covariance",
+          [](const MapObjectEstimate& o) -> py::object {
+            if (!o.covariance) return py::none();
+            return CovarianceToPython(*o.covariance);
+          },
+          "None (Backend.objects() does not compute it), or the dict of "
+          "Backend.object_covariances() (a replay fills it).")
       .def("__repr__", [](const MapObjectEstimate& o) {
         return "MapObject(id=" + std::to_string(o.id) + ", class_name='" +
                o.class_name + "', symmetry='" + ToString(o.symmetry) +
@@ -255,6 +289,23 @@ void BindBackend(py::module_& m) {
           },
           "Every keyframe estimate as a Trajectory.")
       .def("objects", &Backend::Objects, "Every confirmed map object.")
+      .def(
+          "object_covariances",
+          [](Backend& backend) {
+            std::vector<MapObjectCovariance> covariances;
+            ThrowIfError(backend.ObjectCovariances(&covariances));
+            py::list out;
+            for (const MapObjectCovariance& c : covariances) {
+              out.append(CovarianceToPython(c));
+            }
+            return out;
+          },
+          "Each confirmed map object's covariance at the current estimate "
+          "(docs/backend.md, Covariances): dicts {id, position (3, 3) m^2, "
+          "rotation (3, 3) rad^2 or None, axis (3, 3) or None, "
+          "angle_variances [rad^2 or None], source 'solve' or 'prior'}; "
+          "objects without one are left out. Raises SymbaError if the last "
+          "solve's problem is rank deficient.")
       .def("assignments",
            &Backend::Assignments,
            "Every detection's assignment, in input order.")

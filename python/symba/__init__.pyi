@@ -3,7 +3,7 @@
 # (N, 7); pose arguments also take 4 x 4 matrices, (4, 4) or (N, 4, 4).
 # tests/python/test_stubs.py checks that these stubs name everything the
 # module has.
-from typing import Iterator, Literal, Optional, Sequence, Union
+from typing import Any, Iterator, Literal, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -201,6 +201,13 @@ class MapObject:
     def observations(self) -> int: ...
     @property
     def upgrade(self) -> Optional[dict[str, Union[int, float]]]: ...
+    @property
+    def covariance(self) -> Optional[ObjectCovariance]: ...
+
+# Backend.object_covariances(): position (3, 3) m^2; rotation (3, 3) rad^2
+# (asymmetric) or None; axis (3, 3) (symmetric) or None; angle_variances
+# rad^2 per discrete angle (None where unknown); source "solve" or "prior".
+ObjectCovariance = dict[str, Any]
 
 class Assignment:
     @property
@@ -289,6 +296,7 @@ class Backend:
     def object(self, id: int) -> Optional[MapObject]: ...
     def keyframes(self) -> Trajectory: ...
     def objects(self) -> list[MapObject]: ...
+    def object_covariances(self) -> list[ObjectCovariance]: ...
     def assignments(self) -> list[Assignment]: ...
     def statistics(self) -> BackendStatistics: ...
     @property

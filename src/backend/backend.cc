@@ -13,6 +13,7 @@
 #include "backend/backend_impl.h"
 #include "backend/detection_observations.h"
 #include "backend/keyframe_validation.h"
+#include "backend/object_covariances.h"
 #include "symba/common/check.h"
 
 namespace symba {
@@ -57,6 +58,11 @@ std::vector<ClassNoiseEstimate> Backend::Impl::Noise() const {
     classes.push_back(std::move(c));
   }
   return classes;
+}
+
+Status Backend::Impl::ObjectCovariances(
+    std::vector<MapObjectCovariance>* covariances) {
+  return internal::ObjectCovariances(map_.objects(), &graph_, covariances);
 }
 
 int Backend::Impl::WindowStart() const {
@@ -320,6 +326,11 @@ BackendStatistics Backend::Statistics() const { return impl_->statistics_; }
 
 std::vector<ClassNoiseEstimate> Backend::Noise() const {
   return impl_->Noise();
+}
+
+Status Backend::ObjectCovariances(
+    std::vector<MapObjectCovariance>* covariances) {
+  return impl_->ObjectCovariances(covariances);
 }
 
 const BackendOptions& Backend::options() const { return impl_->options_; }

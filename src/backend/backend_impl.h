@@ -45,6 +45,7 @@ class Backend::Impl {
   std::optional<KeyframeEstimate> Keyframe(KeyframeId id) const;
   std::optional<MapObjectEstimate> Object(ObjectId id) const;
   std::vector<ClassNoiseEstimate> Noise() const;
+  Status ObjectCovariances(std::vector<MapObjectCovariance>* covariances);
 
   const BackendOptions options_;
   std::vector<DetectionAssignment> assignments_;

@@ -75,6 +75,13 @@ class FactorGraph {
   // the window observes (condition) or the window's factors (drop) are
   // solved with at most max_iterations.
   void SolveWindow(int first, SolveOutcome* outcome);
+  // For each set of blocks, the joint covariance (tangent) of those the last
+  // solve held free, at the current values (WindowProblem::Covariances).
+  bool SolveCovariances(const std::vector<std::vector<const double*>>& sets,
+                        std::vector<WindowProblem::BlockCovariance>* out) {
+    return problem_.Covariances(sets, out);
+  }
+
   // Every factor in the map, everything free but the first keyframe.
   // Fails without keep_history once keyframes have left the window.
   Status SolveBatch(SolveOutcome* outcome);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <utility>
 
+#include <ceres/covariance.h>
+
 #include "symba/common/check.h"
 
 namespace symba::internal {
@@ -32,6 +34,18 @@ void EnsureBlock(
                                  : const_cast<ceres::Manifold*>(it->second));
 }
 
+// Takes *residual (if any) out of `problem`; its blocks join `released`,
+// to be removed once nothing uses them.
+void RemoveResidual(ceres::ResidualBlockId* residual,
+                    const std::vector<double*>& blocks,
+                    ceres::Problem* problem,
+                    std::vector<double*>* released) {
+  if (*residual == nullptr) return;
+  problem->RemoveResidualBlock(*residual);
+  *residual = nullptr;
+  released->insert(released->end(), blocks.begin(), blocks.end());
+}
+
 }  // namespace
 
 WindowProblem::WindowProblem() : problem_(ProblemOptions()) {}
@@ -53,14 +67,14 @@ const ceres::Manifold* WindowProblem::ManifoldOf(const double* block) const {
 
 void WindowProblem::Retire(int f) {
   FactorRecord& record = factors_[f];
-  RemoveResidual(&record.residual, record.blocks);
+  RemoveResidual(&record.residual, record.blocks, &problem_, &released_);
   record.retired = true;
   record.cost.reset();
 }
 
 void WindowProblem::MarkMarginalized(int f) {
   FactorRecord& record = factors_[f];
-  RemoveResidual(&record.residual, record.blocks);
+  RemoveResidual(&record.residual, record.blocks, &problem_, &released_);
   record.marginalized = true;
 }
 
@@ -74,17 +88,9 @@ void WindowProblem::Forget(int f) {
 
 void WindowProblem::SetPrior(std::unique_ptr<MarginalPriorFactor> prior,
                              std::vector<double*> blocks) {
-  RemoveResidual(&prior_residual_, prior_blocks_);
+  RemoveResidual(&prior_residual_, prior_blocks_, &problem_, &released_);
   prior_ = std::move(prior);
   prior_blocks_ = prior_ ? std::move(blocks) : std::vector<double*>();
-}
-
-void WindowProblem::RemoveResidual(ceres::ResidualBlockId* residual,
-                                   const std::vector<double*>& blocks) {
-  if (*residual == nullptr) return;
-  problem_.RemoveResidualBlock(*residual);
-  *residual = nullptr;
-  released_.insert(released_.end(), blocks.begin(), blocks.end());
 }
 
 void WindowProblem::ReleaseUnusedBlocks() {
@@ -112,10 +118,11 @@ void WindowProblem::Sync(const std::vector<int>& active,
   for (int f : in_problem_) {
     FactorRecord& record = factors_[f];
     if (record.sync_stamp != sync_stamp_) {
-      RemoveResidual(&record.residual, record.blocks);
+      RemoveResidual(&record.residual, record.blocks, &problem_, &released_);
     }
   }
-  if (!options.with_prior) RemoveResidual(&prior_residual_, prior_blocks_);
+  if (!options.with_prior)
+    RemoveResidual(&prior_residual_, prior_blocks_, &problem_, &released_);
   ReleaseUnusedBlocks();
   for (int f : wanted) {
     FactorRecord& record = factors_[f];
@@ -160,6 +167,46 @@ void WindowProblem::SetConstant(double* block, bool constant) {
   } else {
     problem_.SetParameterBlockVariable(block);
   }
+}
+
+bool WindowProblem::Covariances(
+    const std::vector<std::vector<const double*>>& sets,
+    std::vector<BlockCovariance>* covariances) {
+  covariances->assign(sets.size(), BlockCovariance());
+  std::vector<std::pair<const double*, const double*>> pairs;
+  for (size_t s = 0; s < sets.size(); ++s) {
+    std::vector<const double*>& held = (*covariances)[s].blocks;
+    for (const double* block : sets[s]) {
+      if (problem_.HasParameterBlock(block) &&
+          !problem_.IsParameterBlockConstant(block)) {
+        held.push_back(block);
+      }
+    }
+    for (size_t a = 0; a < held.size(); ++a) {
+      for (size_t b = a; b < held.size(); ++b) {
+        pairs.emplace_back(held[a], held[b]);
+      }
+    }
+  }
+  if (pairs.empty()) return true;
+  ceres::Covariance::Options options;
+  options.num_threads = 1;
+  ceres::Covariance covariance(options);
+  if (!covariance.Compute(pairs, &problem_)) return false;
+  for (BlockCovariance& set : *covariances) {
+    if (set.blocks.empty()) continue;
+    int size = 0;
+    for (const double* b : set.blocks) {
+      size += problem_.ParameterBlockTangentSize(b);
+    }
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(
+        size, size);
+    if (!covariance.GetCovarianceMatrixInTangentSpace(set.blocks, c.data())) {
+      return false;
+    }
+    set.covariance = c;
+  }
+  return true;
 }
 
 void WindowProblem::Solve(const ceres::Solver::Options& options,

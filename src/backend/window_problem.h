@@ -17,6 +17,7 @@
 #include <ceres/manifold.h>
 #include <ceres/problem.h>
 #include <ceres/solver.h>
+#include <Eigen/Core>
 
 #include "backend/backend_state.h"
 #include "symba/factors/marginal_prior_factor.h"
@@ -82,10 +83,18 @@ class WindowProblem {
 
   void Solve(const ceres::Solver::Options& options,
              ceres::Solver::Summary* summary);
+  // For each set of blocks, the joint covariance of those the problem
+  // holds free, in their tangent spaces at the current values (computed for
+  // every set at once). False if Ceres cannot compute it (a rank-deficient
+  // problem).
+  struct BlockCovariance {
+    std::vector<const double*> blocks;  // the set's blocks held free
+    Eigen::MatrixXd covariance;         // tangent, in the order of blocks
+  };
+  bool Covariances(const std::vector<std::vector<const double*>>& sets,
+                   std::vector<BlockCovariance>* covariances);
 
  private:
-  void RemoveResidual(ceres::ResidualBlockId* residual,
-                      const std::vector<double*>& blocks);
   void ReleaseUnusedBlocks();
 
   // A deque: adding a factor never moves the others (no peak of twice the

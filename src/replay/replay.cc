@@ -22,6 +22,28 @@ bool ParseReplayMode(const std::string& name, ReplayMode* mode) {
   return true;
 }
 
+namespace {
+
+// Each map object's covariance, where the backend has one; a problem whose
+// covariance Ceres cannot compute leaves them all out, with the reason.
+void AttachCovariances(Backend* backend, ReplayResult* replay) {
+  std::vector<MapObjectCovariance> covariances;
+  const Status status = backend->ObjectCovariances(&covariances);
+  if (!status.ok()) {
+    replay->covariance_note = status.message();
+    return;
+  }
+  size_t c = 0;
+  for (MapObjectEstimate& object : replay->objects) {
+    while (c < covariances.size() && covariances[c].id < object.id) ++c;
+    if (c < covariances.size() && covariances[c].id == object.id) {
+      object.covariance = covariances[c];
+    }
+  }
+}
+
+}  // namespace
+
 Status ReplayLog(const std::string& log_path,
                  const ReplayOptions& options,
                  ReplayResult* result) {
@@ -66,6 +88,7 @@ Status ReplayLog(const std::string& log_path,
   }
   replay.keyframes = backend->Keyframes();
   replay.objects = backend->Objects();
+  AttachCovariances(backend.get(), &replay);
   replay.assignments = backend->Assignments();
   // A detection of an object still tentative at the end is in no map
   // object, like one of a dropped object.

@@ -162,6 +162,15 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
       .Member("marginalized_keyframes", s.marginalized_keyframes)
       .Member("ambiguous_edges_dropped", s.ambiguous_edges_dropped)
       .EndObject();
+  int with_covariance = 0;
+  for (const MapObjectEstimate& o : result.objects) {
+    with_covariance += o.covariance ? 1 : 0;
+  }
+  json.Key("covariances").BeginObject().Member("objects", with_covariance);
+  if (!result.covariance_note.empty()) {
+    json.Member("unavailable", result.covariance_note);
+  }
+  json.EndObject();
   json.Key("timing")
       .BeginObject()
       .Member("seconds", result.seconds)

@@ -41,6 +41,16 @@ def test_replay_matches_the_cli(simulated_log, cli, tmp_path):
         expected_poses = [p["t"] + p["q"] for p in expected["poses"]]
         np.testing.assert_allclose(got.poses, expected_poses, rtol=0,
                                    atol=1e-9)
+        # Every object of this run is covered (docs/backend.md,
+        # Covariances), the same in objects.json (6 significant digits) and
+        # Python.
+        assert got.covariance is not None
+        position = got.covariance["position"]
+        np.testing.assert_allclose(position, expected["position_covariance"],
+                                   rtol=1e-5, atol=0)
+        np.testing.assert_array_equal(position, position.T)
+        assert np.all(np.linalg.eigvalsh(position) > 0)
+        assert got.covariance["source"] == expected["covariance_source"]
     expected_rows = read_associations(out / "associations.csv")
     got_rows = [(str(a.keyframe), a.detection, str(a.object), a.symmetry)
                 for a in result.assignments]
@@ -63,6 +73,13 @@ def test_backend_keyframe_by_keyframe_matches_replay(simulated_log):
     np.testing.assert_array_equal(trajectory.poses, result.trajectory.poses)
     assert [o.id for o in backend.objects()] == [
         o.id for o in result.objects]
+    assert all(o.covariance is None for o in backend.objects())
+    covariances = backend.object_covariances()
+    assert [c["id"] for c in covariances] == [o.id for o in result.objects]
+    # Equal up to round-off: Ceres orders a covariance's blocks by address.
+    for c, o in zip(covariances, result.objects):
+        np.testing.assert_allclose(c["position"], o.covariance["position"],
+                                   rtol=1e-9, atol=0)
     np.testing.assert_array_equal(backend.keyframe(keyframes[-1].id),
                                   trajectory.poses[-1])
     assert backend.keyframe(10**9) is None

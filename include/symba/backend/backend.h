@@ -107,6 +107,13 @@ class Backend {
   // estimated so far and what the class's detections without a sigma are
   // weighed with (empty without estimate_noise).
   std::vector<ClassNoiseEstimate> Noise() const;
+  // Every confirmed map object's covariance at the current estimate
+  // (docs/backend.md "Covariances"): from the last solve, or for an object
+  // outside it from its marginalised observations; an object neither
+  // covers (no solve yet, or outside the window without a prior) is left
+  // out. Costs a factorisation of the last solve's problem. Fails if that
+  // problem is rank deficient.
+  Status ObjectCovariances(std::vector<MapObjectCovariance>* covariances);
   const BackendOptions& options() const;
 
  private:

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "symba/backend/ids.h"
+#include "symba/backend/object_covariance.h"
 #include "symba/categorization/symmetry_type.h"
 #include "symba/geometry/rigid3.h"
 
@@ -43,6 +44,11 @@ struct MapObjectEstimate {
     double angle = 0.0;       // the flips' mean angle (rad; 0 without flips)
   };
   std::optional<Upgrade> upgrade;
+  // How far it can be trusted, where computed: Backend::Objects() leaves
+  // it empty (Backend::ObjectCovariances() computes it on demand); a
+  // replay fills it for every object it can (docs/backend.md
+  // "Covariances").
+  std::optional<MapObjectCovariance> covariance;
 };
 
 struct DetectionAssignment {

@@ -2,10 +2,12 @@
 // replay"): its writer and its strict reader.
 //
 //   {"objects": [{id, class, symmetry, t, axis?, angles?, poses,
-//                 observations}]}
+//                 observations, position_covariance?, rotation_covariance?,
+//                 axis_covariance?, angle_variances?, covariance_source?}]}
 //
 // axis only for symmetric objects, angles only for discrete ones; poses are
-// {"t": [x, y, z], "q": [qx, qy, qz, qw]}.
+// {"t": [x, y, z], "q": [qx, qy, qz, qw]}; the covariances (docs/replay.md)
+// are 3x3 matrices as three rows, angle_variances numbers or null.
 #ifndef SYMBA_IO_OBJECTS_JSON_H_
 #define SYMBA_IO_OBJECTS_JSON_H_
 

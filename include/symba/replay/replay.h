@@ -39,7 +39,10 @@ struct ReplayResult {
   BackendStatistics statistics;
   std::vector<ClassNoiseEstimate> noise;  // Backend::Noise() at the end
   SolveReport last_solve;                 // the final window or the batch solve
-  double seconds = 0.0;                   // wall time of the whole replay
+  // Why no object has a covariance (Backend::ObjectCovariances failed);
+  // empty when they were computed.
+  std::string covariance_note;
+  double seconds = 0.0;  // wall time of the whole replay
 };
 
 // Reads `log_path` and replays it. Errors name the file and line.

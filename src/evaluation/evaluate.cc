@@ -14,6 +14,7 @@
 #include <system_error>
 #include <utility>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 
 #include "io/json_writer.h"
@@ -39,6 +40,16 @@ using internal::SplitLines;
 using io_internal::JsonWriter;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// e^T P^-1 e for the map object's position error against t_true; NaN
+// without a covariance or with one that is not positive definite.
+double PositionNees(const MapObjectEstimate& m, const Eigen::Vector3d& t_true) {
+  if (!m.covariance) return kNaN;
+  const Eigen::LLT<Eigen::Matrix3d> llt(m.covariance->position);
+  if (llt.info() != Eigen::Success) return kNaN;
+  const Eigen::Vector3d e = m.t_wo - t_true;
+  return e.dot(llt.solve(e));
+}
 constexpr double kRadToDeg = 180.0 / kPi;
 std::string JoinPath(const std::string& dir, const char* name) {
   if (dir.empty() || dir.back() == '/') return dir + name;
@@ -201,6 +212,7 @@ void ObjectJson(const ObjectEvaluation& o, JsonWriter* json) {
   json->Member("translation_error", o.translation_error)
       .Member("axis_error_deg", o.axis_error_deg)
       .Member("rotation_error_deg", o.rotation_error_deg)
+      .Member("position_nees", o.position_nees)
       .Member("categorized_correctly", o.categorized_correctly)
       .Member("categorization_accuracy", o.categorization_accuracy)
       .EndObject();
@@ -343,6 +355,7 @@ Status EvaluateReplay(const GroundTruth& gt,
     ObjectEvaluation& o = e.objects[i];
     o.map_objects = static_cast<int>(o.detections_per_map_object.size());
     o.translation_error = kNaN;
+    o.position_nees = kNaN;
     o.axis_error_deg = kNaN;
     o.rotation_error_deg = kNaN;
     o.categorization_accuracy =
@@ -360,6 +373,7 @@ Status EvaluateReplay(const GroundTruth& gt,
     const MapObjectEstimate& m = *map_objects.at(o.main_object);
     o.main_object_symmetry = m.symmetry;
     o.translation_error = (m.t_wo - g.T_wo.t).norm();
+    o.position_nees = PositionNees(m, g.T_wo.t);
     if (g.symmetry != SymmetryType::kAsymmetric) {
       const Eigen::Vector3d a_w =
           m.symmetry != SymmetryType::kAsymmetric

@@ -104,7 +104,8 @@ std::string ResultObjects() {
          QuatJson((30 + 184) * kDeg, Eigen::Vector3d::UnitZ()) + R"(},
              {"t": [1.03, 2.04, 0.4], "q": )" +
          QuatJson((30 + 90) * kDeg, Eigen::Vector3d::UnitZ()) + R"(}],
-   "observations": 3},
+   "observations": 3,
+   "position_covariance": [[0.0001, 0, 0], [0, 0.0004, 0], [0, 0, 0.01]]},
   {"id": 7, "class": "table", "symmetry": "discrete", "t": [3, 3, 0.4],
    "axis": [0, 0, 1], "angles": [0],
    "poses": [{"t": [3, 3, 0.4], "q": [0, 0, 0, 1]}], "observations": 1},
@@ -181,6 +182,8 @@ TEST_F(EvaluateTest, KnownAnswers) {
   EXPECT_EQ(table.detections_per_map_object.at(5), 3);
   EXPECT_EQ(table.detections_per_map_object.at(7), 1);
   EXPECT_NEAR(table.translation_error, 0.05, 1e-12);
+  // e = (0.03, 0.04, 0): 0.03^2 / 0.0001 + 0.04^2 / 0.0004.
+  EXPECT_NEAR(table.position_nees, 13.0, 1e-9);
   EXPECT_NEAR(table.axis_error_deg, 10.0, 1e-9);
   // 184 degrees about z is 4 degrees from the order-2 symmetric pose.
   EXPECT_NEAR(table.rotation_error_deg, 4.0, 1e-9);
@@ -192,6 +195,7 @@ TEST_F(EvaluateTest, KnownAnswers) {
   EXPECT_EQ(round.map_objects, 1);
   EXPECT_EQ(round.main_object, 9);
   EXPECT_NEAR(round.translation_error, 0.0, 1e-12);
+  EXPECT_TRUE(std::isnan(round.position_nees));  // no covariance
   // An asymmetric map object's axis is its rotation applied to axis_o.
   EXPECT_NEAR(round.axis_error_deg, 5.0, 1e-9);
   EXPECT_NEAR(round.rotation_error_deg, 5.0, 1e-9);

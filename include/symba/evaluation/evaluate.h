@@ -110,6 +110,11 @@ struct ObjectEvaluation {
   double translation_error = 0.0;   // m
   double axis_error_deg = 0.0;      // deg
   double rotation_error_deg = 0.0;  // deg
+  // The main map object's position error normalised by its covariance,
+  // e^T P^-1 e with e = t_estimated - t_true (chi-square with 3 degrees of
+  // freedom if P is right); NaN without a covariance in objects.json (or
+  // a singular one).
+  double position_nees = 0.0;
   int categorized_correctly = 0;
   double categorization_accuracy = 0.0;  // in [0, 1]; NaN without detections
 };

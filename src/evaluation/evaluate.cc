@@ -41,15 +41,6 @@ using io_internal::JsonWriter;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// e^T P^-1 e for the map object's position error against t_true; NaN
-// without a covariance or with one that is not positive definite.
-double PositionNees(const MapObjectEstimate& m, const Eigen::Vector3d& t_true) {
-  if (!m.covariance) return kNaN;
-  const Eigen::LLT<Eigen::Matrix3d> llt(m.covariance->position);
-  if (llt.info() != Eigen::Success) return kNaN;
-  const Eigen::Vector3d e = m.t_wo - t_true;
-  return e.dot(llt.solve(e));
-}
 constexpr double kRadToDeg = 180.0 / kPi;
 std::string JoinPath(const std::string& dir, const char* name) {
   if (dir.empty() || dir.back() == '/') return dir + name;
@@ -251,6 +242,14 @@ int Evaluation::MaxFragmentation() const {
     largest = std::max(largest, o.map_objects);
   }
   return largest;
+}
+
+double PositionNees(const MapObjectEstimate& m, const Eigen::Vector3d& t_true) {
+  if (!m.covariance) return kNaN;
+  const Eigen::LLT<Eigen::Matrix3d> llt(m.covariance->position);
+  if (llt.info() != Eigen::Success) return kNaN;
+  const Eigen::Vector3d e = m.t_wo - t_true;
+  return e.dot(llt.solve(e));
 }
 
 Status EvaluateReplay(const GroundTruth& gt,

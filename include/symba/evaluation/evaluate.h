@@ -119,6 +119,12 @@ struct ObjectEvaluation {
   double categorization_accuracy = 0.0;  // in [0, 1]; NaN without detections
 };
 
+// e^T P^-1 e for the map object's position error e = t_wo - t_true,
+// with P its position covariance; NaN without a covariance or with one
+// that is not positive definite.
+double PositionNees(const MapObjectEstimate& object,
+                    const Eigen::Vector3d& t_true);
+
 struct Evaluation {
   int keyframes = 0;
   double position_rmse = 0.0;       // m

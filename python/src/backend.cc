@@ -304,7 +304,7 @@ void BindBackend(py::module_& m) {
           "(docs/backend.md, Covariances): dicts {id, position (3, 3) m^2, "
           "rotation (3, 3) rad^2 or None, axis (3, 3) or None, "
           "angle_variances [rad^2 or None], source 'solve' or 'prior'}; "
-          "objects without one are left out. Raises SymbaError if the last "
+          "objects without one are left out. Raises symba.Error if the last "
           "solve's problem is rank deficient.")
       .def("assignments",
            &Backend::Assignments,

@@ -59,12 +59,6 @@ int FactorGraph::Add(FactorRecord record) {
   return f;
 }
 
-bool FactorGraph::InMap(const FactorRecord& record) const {
-  return !record.retired &&
-         (record.object < 0 ||
-          objects_[record.object]->status == ObjectStatus::kConfirmed);
-}
-
 std::vector<int> FactorGraph::ConditionedFactors(int first_free) const {
   // The window keyframes and everything they observe, with every factor of
   // those.
@@ -75,7 +69,7 @@ std::vector<int> FactorGraph::ConditionedFactors(int first_free) const {
   for (int k = first_free; k < n; ++k) {
     for (int f : keyframes_[k]->factors) {
       const FactorRecord& record = problem_.factor(f);
-      if (!InMap(record)) continue;
+      if (!InMap(record, objects_)) continue;
       active.push_back(f);
       if (record.object >= 0) object_free[record.object] = 1;
       if (record.point >= 0) point_free[record.point] = 1;
@@ -90,7 +84,7 @@ std::vector<int> FactorGraph::ConditionedFactors(int first_free) const {
   for (size_t p = 0; p < points_.size(); ++p) {
     if (!point_free[p]) continue;
     for (int f : points_[p]->factors) {
-      if (InMap(problem_.factor(f))) active.push_back(f);
+      if (InMap(problem_.factor(f), objects_)) active.push_back(f);
     }
   }
   return active;
@@ -103,7 +97,7 @@ std::vector<int> FactorGraph::WindowFactors(int first_free) const {
   for (int k = first_free; k < static_cast<int>(keyframes_.size()); ++k) {
     for (int f : keyframes_[k]->factors) {
       const FactorRecord& record = problem_.factor(f);
-      if (!InMap(record) || record.marginalized) continue;
+      if (!InMap(record, objects_) || record.marginalized) continue;
       active.push_back(f);
       if (record.point >= 0) points.push_back(record.point);
       if (record.object >= 0) objects.push_back(record.object);
@@ -130,7 +124,7 @@ std::vector<int> FactorGraph::AllFactors() const {
   std::vector<int> active;
   for (int f = 0; f < problem_.size(); ++f) {
     const FactorRecord& record = problem_.factor(f);
-    if (InMap(record) && !record.summary) active.push_back(f);
+    if (InMap(record, objects_) && !record.summary) active.push_back(f);
   }
   return active;
 }
@@ -157,20 +151,10 @@ int FactorGraph::SetKeyframeFreedom(int first_free, int gauge) {
 }
 
 void FactorGraph::SolveWindow(int first, SolveOutcome* outcome) {
-  const WindowPolicy policy = options_.window_policy;
-  WindowProblem::SyncOptions sync;
-  // The gauge: the first keyframe while in the window; under drop the
-  // oldest window keyframe.
-  int gauge = 0;
-  if (policy == WindowPolicy::kCondition) {
-    problem_.Sync(ConditionedFactors(first), sync);
-  } else {
+  if (options_.window_policy != WindowPolicy::kCondition) {
     while (marginalized_until_ < first) LeaveWindow(marginalized_until_++);
-    sync.with_prior = policy == WindowPolicy::kMarginalize;
-    problem_.Sync(WindowFactors(first), sync);
-    if (policy == WindowPolicy::kDrop) gauge = first;
   }
-  Solve(options_.max_iterations, SetKeyframeFreedom(first, gauge), outcome);
+  Solve(options_.max_iterations, Prepare(false, first), outcome);
 }
 
 Status FactorGraph::SolveBatch(SolveOutcome* outcome) {
@@ -179,11 +163,44 @@ Status FactorGraph::SolveBatch(SolveOutcome* outcome) {
         "no batch solve: keyframes left the window and their factors were "
         "freed (set BackendOptions::keep_history to keep them)");
   }
-  WindowProblem::SyncOptions sync;
-  sync.with_marginalized = true;
-  problem_.Sync(AllFactors(), sync);
-  Solve(options_.batch_max_iterations, SetKeyframeFreedom(0, 0), outcome);
+  Solve(options_.batch_max_iterations, Prepare(true, 0), outcome);
   return Status::Ok();
+}
+
+int FactorGraph::Prepare(bool batch, int first) {
+  last_solve_ = LastSolve{true, batch, first};
+  WindowProblem::SyncOptions sync;
+  if (batch) {
+    sync.with_marginalized = true;
+    problem_.Sync(AllFactors(), sync);
+    return SetKeyframeFreedom(0, 0);
+  }
+  const WindowPolicy policy = options_.window_policy;
+  // The gauge: the first keyframe while in the window; under drop the
+  // oldest window keyframe.
+  int gauge = 0;
+  if (policy == WindowPolicy::kCondition) {
+    problem_.Sync(ConditionedFactors(first), sync);
+  } else {
+    sync.with_prior = policy == WindowPolicy::kMarginalize;
+    problem_.Sync(WindowFactors(first), sync);
+    if (policy == WindowPolicy::kDrop) gauge = first;
+  }
+  return SetKeyframeFreedom(first, gauge);
+}
+
+bool FactorGraph::SolveCovariances(
+    const std::vector<std::vector<const double*>>& sets,
+    std::vector<WindowProblem::BlockCovariance>* out) {
+  if (!last_solve_.any) {
+    out->assign(sets.size(), WindowProblem::BlockCovariance());
+    return true;
+  }
+  // Edges rebuilt since (re-anchoring, noise updates, upgrades) left the
+  // problem without their replacements: hold what the last solve held, as
+  // it is now.
+  Prepare(last_solve_.batch, last_solve_.first);
+  return problem_.Covariances(sets, out);
 }
 
 void FactorGraph::Solve(int max_iterations,

@@ -44,6 +44,14 @@ struct SolveOutcome {
   int prior_size = 0;  // the keyframe prior's tangent dimension in the solve
 };
 
+// A factor is in the map unless it was retired or its object is not
+// confirmed.
+inline bool InMap(const FactorRecord& record, const ObjectList& objects) {
+  return !record.retired &&
+         (record.object < 0 ||
+          objects[record.object]->status == ObjectStatus::kConfirmed);
+}
+
 class FactorGraph {
  public:
   // The containers are the backend's and must outlive the graph.
@@ -76,20 +84,19 @@ class FactorGraph {
   // solved with at most max_iterations.
   void SolveWindow(int first, SolveOutcome* outcome);
   // For each set of blocks, the joint covariance (tangent) of those the last
-  // solve held free, at the current values (WindowProblem::Covariances).
+  // solve's selection holds free, at the current values: the problem is
+  // first synced again as that solve would sync it now (edges rebuilt since
+  // enter, and a keyframe added since, if in the window), which may change
+  // the order of the next solve's residuals (its result at round-off
+  // level). Nothing before the first solve.
   bool SolveCovariances(const std::vector<std::vector<const double*>>& sets,
-                        std::vector<WindowProblem::BlockCovariance>* out) {
-    return problem_.Covariances(sets, out);
-  }
+                        std::vector<WindowProblem::BlockCovariance>* out);
 
   // Every factor in the map, everything free but the first keyframe.
   // Fails without keep_history once keyframes have left the window.
   Status SolveBatch(SolveOutcome* outcome);
 
  private:
-  // A factor is in the map unless it was retired or its object is not
-  // confirmed.
-  bool InMap(const FactorRecord& record) const;
   // condition: the window keyframes' factors and every factor of what they
   // observe (grows with the run).
   std::vector<int> ConditionedFactors(int first_free) const;
@@ -101,6 +108,10 @@ class FactorGraph {
   // Sets the keyframes the problem holds constant or free (free: index >=
   // first_free, not the gauge); returns the free count. O(problem size).
   int SetKeyframeFreedom(int first_free, int gauge);
+  // Syncs the problem to the factors of a window solve from `first` (or of
+  // the batch solve) and sets the keyframes' freedom; returns the free
+  // count.
+  int Prepare(bool batch, int first);
   void Solve(int max_iterations, int free_keyframes, SolveOutcome* outcome);
 
   // Keyframe k leaves the window: under marginalize its motion factors go
@@ -137,6 +148,13 @@ class FactorGraph {
   WindowProblem problem_;
   // Keyframes before this one have left the window.
   int marginalized_until_ = 0;
+  // What the last solve held (Prepare's arguments).
+  struct LastSolve {
+    bool any = false;
+    bool batch = false;
+    int first = 0;
+  };
+  LastSolve last_solve_;
 };
 
 }  // namespace symba::internal

@@ -44,7 +44,7 @@ void FactorGraph::LeaveWindow(int k) {
     const FactorRecord& record = problem_.factor(f);
     if (record.retired || record.marginalized) continue;
     leaving.push_back(f);
-    if (!marginalize || !InMap(record)) continue;
+    if (!marginalize || !InMap(record, objects_)) continue;
     if (record.point >= 0) {
       point_factors.emplace_back(record.point, f);
       if (marginal_chain) {

@@ -173,7 +173,7 @@ Status OptionalMatrix3(const JsonTreeReader& r,
     m->row(i) = row;
   }
   if (!status.ok()) return status;
-  const double scale = std::max(1.0, m->cwiseAbs().maxCoeff());
+  const double scale = m->cwiseAbs().maxCoeff();
   if ((*m - m->transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) {
     return r.Fail(path, "expected a symmetric matrix");
   }
@@ -196,13 +196,22 @@ Status ReadCovariance(const JsonTreeReader& r,
   Status status = OptionalMatrix3(
       r, object, where, "position_covariance", &position, &c.position);
   Eigen::Matrix3d m;
+  const bool asymmetric = o->symmetry == SymmetryType::kAsymmetric;
   if (status.ok()) {
     status =
         OptionalMatrix3(r, object, where, "rotation_covariance", &present, &m);
+    if (status.ok() && present && !asymmetric) {
+      status = r.Fail(where.Member("rotation_covariance"),
+                      "only an asymmetric object has one");
+    }
     if (present) c.rotation = m;
   }
   if (status.ok()) {
     status = OptionalMatrix3(r, object, where, "axis_covariance", &present, &m);
+    if (status.ok() && present && asymmetric) {
+      status = r.Fail(where.Member("axis_covariance"),
+                      "only a symmetric object has one");
+    }
     if (present) c.axis = m;
   }
   if (!status.ok()) return status;
@@ -210,6 +219,14 @@ Status ReadCovariance(const JsonTreeReader& r,
   if (variances != 0) {
     const JsonPath path = where.Member("angle_variances");
     status = r.Array(variances, path);
+    if (status.ok() && o->symmetry != SymmetryType::kDiscrete) {
+      return r.Fail(path, "only a discrete object has them");
+    }
+    if (status.ok() && r.tree().node(variances).size != o->angles.size()) {
+      return r.Fail(path,
+                    "expected " + std::to_string(o->angles.size()) +
+                        " entries, one per angle");
+    }
     int k = 0;
     for (JsonTree::Index e = status.ok() ? r.tree().node(variances).first : 0;
          e != 0;

@@ -132,6 +132,22 @@ TEST_F(ObjectCovariancesTest, AnAsymmetricObjectInTheSolve) {
   EXPECT_FALSE(c.axis.has_value());
 }
 
+// Edges rebuilt after the solve (here as re-anchoring or a noise update
+// would) are in the covariance: the problem is synced again first.
+TEST_F(ObjectCovariancesTest, EdgesRebuiltAfterTheSolveCount) {
+  Build(1, SymmetryType::kAsymmetric);
+  for (int i = 0; i < 4; ++i) Detect(0);
+  SolveOutcome outcome;
+  graph_->SolveWindow(0, &outcome);
+  edges_->Rebuild(0);
+  Detect(0);  // a fifth, added since
+  const MapObjectCovariance c = Covariance();
+  EXPECT_EQ(c.source, MapObjectCovariance::Source::kSolve);
+  EXPECT_LT(
+      (c.position - Eigen::Matrix3d::Identity() * kSigmaT * kSigmaT / 5).norm(),
+      1e-9);
+}
+
 // Keyframes 0 and 1 see the object and leave the window (marginalize): the
 // window (2, 3) does not hold it, its prior does, with the information of
 // both detections on the object alone.

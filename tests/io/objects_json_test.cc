@@ -67,6 +67,41 @@ TEST(ObjectsJson, CovariancesRoundTripWithSixDigits) {
   EXPECT_EQ(FormatObjectsJson(read), FormatObjectsJson({Discrete()}));
 }
 
+// A discrete object's angle variances: one per angle, each >= 0 or null.
+TEST(ObjectsJson, AngleVariancesMatchTheAngles) {
+  const std::string head =
+      R"({"objects": [{"id": 0, "class": "table", "symmetry": "discrete", )"
+      R"("t": [0, 0, 0], "axis": [0, 0, 1], "angles": [0, 1], )"
+      R"("poses": [{"t": [0, 0, 0], "q": [0, 0, 0, 1]}, )"
+      R"({"t": [0, 0, 0], "q": [0, 0, 0, 1]}], "observations": 1, )"
+      R"("position_covariance": [[1, 0, 0], [0, 1, 0], [0, 0, 1]], )";
+  const std::string cases[][2] = {
+      {R"("angle_variances": [0.1])",
+       "objects[0].angle_variances: expected 2 entries, one per angle"},
+      {R"("angle_variances": [0.1, -2])",
+       "objects[0].angle_variances[1]: expected a variance (>= 0)"},
+  };
+  int k = 0;
+  for (const auto& c : cases) {
+    const std::string path =
+        WriteTemp("objects_angles_" + std::to_string(k++) + ".json",
+                  head + c[0] + "}]}\n");
+    std::vector<MapObjectEstimate> read;
+    const Status status = ReadObjectsJson(path, &read);
+    ASSERT_FALSE(status.ok()) << c[0];
+    EXPECT_NE(status.message().find(path + ": " + c[1]), std::string::npos)
+        << status.message();
+  }
+  const std::string path =
+      WriteTemp("objects_angles_ok.json",
+                head + R"("angle_variances": [0.1, null]}]})" + "\n");
+  std::vector<MapObjectEstimate> read;
+  const Status status = ReadObjectsJson(path, &read);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(read[0].covariance->angle_variances[0], 0.1);
+  EXPECT_FALSE(read[0].covariance->angle_variances[1].has_value());
+}
+
 TEST(ObjectsJson, AnObjectWithoutCovarianceHasNone) {
   MapObjectEstimate o = Discrete();
   o.covariance.reset();
@@ -101,9 +136,14 @@ TEST(ObjectsJson, MalformedCovariancesAreRefusedWithTheirPath) {
       {R"("position_covariance": )" + identity +
            R"(, "covariance_source": "guess")",
        "objects[0].covariance_source: expected \"solve\" or \"prior\""},
+      {R"("position_covariance": )" + identity + R"(, "axis_covariance": )" +
+           identity,
+       "objects[0].axis_covariance: only a symmetric object has one"},
       {R"("position_covariance": )" + identity +
-           R"(, "angle_variances": [0.1, -2])",
-       "objects[0].angle_variances[1]: expected a variance (>= 0)"},
+           R"(, "angle_variances": [0.1])",
+       "objects[0].angle_variances: only a discrete object has them"},
+      {R"("position_covariance": [[1e-8, 1e-9, 0], [0, 1e-8, 0], [0, 0, 1e-8]])",
+       "objects[0].position_covariance: expected a symmetric matrix"},
   };
   int k = 0;
   for (const auto& c : cases) {

@@ -667,8 +667,15 @@ TEST(BackendSequences, AsymmetricObjectIsOneObjectForEveryMethod) {
   const ScriptedSequence seq = GenerateScriptedSequence(OrbitSpec(chair));
   const PositionError frontend = Positions(seq.T_wc_true, FrontendPoses(seq));
   EXPECT_GT(frontend.rmse, kFrontendMinRmse);
+#ifdef SYMBA_SANITIZED
+  // mh's 30-component mixtures take half a minute under ASan + UBSan here;
+  // its code runs sanitized in the other sequences, and all three run in
+  // the optimised build.
+  const Method methods[] = {Method::kSymba, Method::kSingleHypothesis};
+#else
   const Method methods[] = {
       Method::kSymba, Method::kMultiHypothesis, Method::kSingleHypothesis};
+#endif
   for (Method method : methods) {
     SCOPED_TRACE(MethodName(method));
     BackendOptions options;

@@ -122,6 +122,11 @@ TEST(BackendSingleHypothesis, ARoundTableWithAPriorIsOneContinuousObject) {
   EXPECT_EQ(MapObjectsPerTruth(with, run).at(0).size(), 1u);
   EXPECT_LT(PositionRmse(with, run), 0.10);
 
+#ifdef SYMBA_SANITIZED
+  // The second replay adds no code path the first did not run and takes
+  // half a minute under ASan + UBSan; the optimised build runs it.
+  GTEST_SKIP() << "the run without the prior is the optimised build's";
+#endif
   // Without the prior a single pose reads as asymmetric, and flips by
   // random angles never agree on an order: the table is mapped more than
   // once and the camera is worse.

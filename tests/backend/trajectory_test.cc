@@ -12,7 +12,7 @@
 namespace symba::internal {
 namespace {
 
-Rigid3d At(double x, double y, double z) {
+Rigid3d PoseAt(double x, double y, double z) {
   return Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(x, y, z));
 }
 
@@ -56,14 +56,14 @@ TEST_F(TrajectoryTest, OdometryMovesTheOptimisedPoseAndTheChain) {
   Build();
   KeyframeInput first;
   first.id = 10;
-  first.T_wc = At(1, 0, 0);
+  first.T_wc = PoseAt(1, 0, 0);
   EXPECT_EQ(trajectory().Add(first), 0);
   // As if a solve had moved keyframe 0 by 0.5 m along y.
   Eigen::Map<Eigen::Vector3d>(trajectory().keyframes()[0]->t) =
       Eigen::Vector3d(1, 0.5, 0);
   KeyframeInput second;
   second.id = 11;
-  second.odometry = Odometry{At(0, 0, 2), 0.1, 0.2};
+  second.odometry = Odometry{PoseAt(0, 0, 2), 0.1, 0.2};
   EXPECT_EQ(trajectory().Add(second), 1);
   const KeyframeState& kf = *trajectory().keyframes()[1];
   EXPECT_LT((kf.T_wc().t - Eigen::Vector3d(1, 0.5, 2)).norm(), 1e-12);
@@ -85,13 +85,13 @@ TEST_F(TrajectoryTest, FrontEndPosesChainTheirRelativeMotion) {
   Build();
   KeyframeInput first;
   first.id = 0;
-  first.T_wc = At(0, 0, 0);
+  first.T_wc = PoseAt(0, 0, 0);
   trajectory().Add(first);
   Eigen::Map<Eigen::Vector3d>(trajectory().keyframes()[0]->t) =
       Eigen::Vector3d(0, 0, 1);
   KeyframeInput second;
   second.id = 1;
-  second.T_wc = At(3, 0, 0);
+  second.T_wc = PoseAt(3, 0, 0);
   trajectory().Add(second);
   const KeyframeState& kf = *trajectory().keyframes()[1];
   EXPECT_LT((kf.T_wc().t - Eigen::Vector3d(3, 0, 1)).norm(), 1e-12);
@@ -109,14 +109,14 @@ TEST_F(TrajectoryTest, PointsAreCreatedFromADepth) {
   Build(PinholeIntrinsics{100, 100, 50, 50});
   KeyframeInput first;
   first.id = 0;
-  first.T_wc = At(1, 0, 0);
+  first.T_wc = PoseAt(1, 0, 0);
   first.points = {PointObservation{7, Eigen::Vector2d(150, 50), std::nullopt}};
   trajectory().Add(first);
   EXPECT_TRUE(trajectory().points().empty());
   EXPECT_TRUE(trajectory().keyframes()[0]->factors.empty());
   KeyframeInput second;
   second.id = 1;
-  second.T_wc = At(1, 0, 0);
+  second.T_wc = PoseAt(1, 0, 0);
   second.points = {PointObservation{7, Eigen::Vector2d(150, 50), 2.0}};
   trajectory().Add(second);
   ASSERT_EQ(trajectory().points().size(), 1u);

@@ -13,8 +13,8 @@ namespace {
 
 using ::testing::HasSubstr;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPriorNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kPriorInf = std::numeric_limits<double>::infinity();
 
 ClassPrior Prior(SymmetryType symmetry, int order, Eigen::Vector3d axis_o) {
   ClassPrior prior;
@@ -49,7 +49,7 @@ TEST(ClassPrior, NegativeOrderIsAnError) {
 }
 
 TEST(ClassPrior, NonFiniteAxisIsAnError) {
-  for (const double bad : {kNaN, kInf, -kInf}) {
+  for (const double bad : {kPriorNaN, kPriorInf, -kPriorInf}) {
     const Status status =
         Prior(SymmetryType::kContinuous, 0, Eigen::Vector3d(0.0, bad, 1.0))
             .Validate();

@@ -30,13 +30,13 @@ std::unique_ptr<ContinuousObjectEdge> MakeEdge(
   return edge;
 }
 
-struct State {
+struct ContinuousState {
   PoseBlocks camera;
   double t_wo[3];
   double a_w[3];
-  State(const Rigid3d& T_wc,
-        const Eigen::Vector3d& position,
-        const Eigen::Vector3d& axis)
+  ContinuousState(const Rigid3d& T_wc,
+                  const Eigen::Vector3d& position,
+                  const Eigen::Vector3d& axis)
       : camera(T_wc) {
     Eigen::Map<Eigen::Vector3d> t_map(t_wo);
     Eigen::Map<Eigen::Vector3d> a_map(a_w);
@@ -64,7 +64,7 @@ TEST(ContinuousObjectEdgeTest, ZeroResidualAtTheTrueState) {
     const Eigen::Vector3d a_c = T_wc.q.conjugate() * a_w;
     auto edge = MakeEdge({{t_co, Eigen::Matrix3d::Identity() / 0.05, 1.0}},
                          Axis(a_c, 0.1, 1.0));
-    State state(T_wc, t_wo, a_w);
+    ContinuousState state(T_wc, t_wo, a_w);
     const auto e = testing::EvaluateWithJacobians(*edge, state.Parameters());
     ASSERT_TRUE(e.ok);
     EXPECT_LT(e.residuals.norm(), 1e-12);
@@ -82,7 +82,7 @@ TEST(ContinuousObjectEdgeTest, HandComputedTranslationAndAxisErrors) {
       Axis(Eigen::Vector3d::UnitZ(), 0.1, 2.0));
   const Eigen::Vector3d a_w = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()) *
                               Eigen::Vector3d::UnitZ();
-  State state(Rigid3d::Identity(), Eigen::Vector3d(0.1, 0, 2), a_w);
+  ContinuousState state(Rigid3d::Identity(), Eigen::Vector3d(0.1, 0, 2), a_w);
   const auto e = testing::EvaluateWithJacobians(*edge, state.Parameters());
   ASSERT_TRUE(e.ok);
   Eigen::Matrix<double, 6, 1> expected;
@@ -123,7 +123,7 @@ TEST(ContinuousObjectEdgeTest, GradientCheckerPassesAt240RandomStates) {
     auto edge = MakeEdge(
         components,
         Axis(a_c, random.Uniform(0.05, 0.3), random.Uniform(0.5, 3.0)));
-    State state(T_wc, t_wo, a_w);
+    ContinuousState state(T_wc, t_wo, a_w);
     std::string message;
     EXPECT_TRUE(testing::GradientIsCorrect(
         *edge, manifolds, state.Parameters(), 1e-6, &message))
@@ -147,11 +147,12 @@ TEST(ContinuousObjectEdgeTest, WinnerSwitchesOnTranslationOnly) {
   const Eigen::Vector3d a_w = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()) *
                               Eigen::Vector3d::UnitZ();
   MixtureSelection selection;
-  State before(
+  ContinuousState before(
       Rigid3d::Identity(), Eigen::Vector3d(x_switch - 1e-7, 0, 2), a_w);
   ASSERT_TRUE(edge->Select(before.Parameters().data(), &selection));
   EXPECT_EQ(selection.component, 0);
-  State after(Rigid3d::Identity(), Eigen::Vector3d(x_switch + 1e-7, 0, 2), a_w);
+  ContinuousState after(
+      Rigid3d::Identity(), Eigen::Vector3d(x_switch + 1e-7, 0, 2), a_w);
   ASSERT_TRUE(edge->Select(after.Parameters().data(), &selection));
   EXPECT_EQ(selection.component, 1);
   const auto mixed_before =
@@ -213,7 +214,7 @@ TEST(ContinuousObjectEdgeTest, HandWrittenJacobianEqualsAutoDiff) {
             autodiff(
                 new ContinuousModel::ComponentFunctor{component, axis, basis});
 
-    State state(T_wc, t_wo, a_w);
+    ContinuousState state(T_wc, t_wo, a_w);
     Eigen::Map<Eigen::Vector4d>(state.camera.q) *= random.Uniform(0.9, 1.1);
     Eigen::Map<Eigen::Vector3d>(state.a_w) *= random.Uniform(0.9, 1.1);
     const auto h = testing::EvaluateWithJacobians(hand, state.Parameters());

@@ -31,15 +31,15 @@ std::unique_ptr<DiscreteObjectEdge> MakeEdge(
 }
 
 // Blocks of a state: camera pose, object position, world axis, one angle.
-struct State {
+struct DiscreteState {
   PoseBlocks camera;
   double t_wo[3];
   double a_w[3];
   double theta;
-  State(const Rigid3d& T_wc,
-        const Eigen::Vector3d& position,
-        const Eigen::Vector3d& axis,
-        double angle)
+  DiscreteState(const Rigid3d& T_wc,
+                const Eigen::Vector3d& position,
+                const Eigen::Vector3d& axis,
+                double angle)
       : camera(T_wc), theta(angle) {
     Eigen::Map<Eigen::Vector3d> t_map(t_wo);
     Eigen::Map<Eigen::Vector3d> a_map(a_w);
@@ -91,7 +91,7 @@ TEST(DiscreteObjectEdgeTest, ZeroResidualAtTheTrueState) {
     auto edge = MakeEdge(
         {{T_wc.Inverse() * T_wo, IsotropicPoseSqrtInfo(0.05, 0.1), 1.0}},
         anchor);
-    State state(T_wc, t_wo, a_w, theta);
+    DiscreteState state(T_wc, t_wo, a_w, theta);
     const auto e = testing::EvaluateWithJacobians(*edge, state.Parameters());
     ASSERT_TRUE(e.ok);
     EXPECT_LT(e.residuals.norm(), 1e-12);
@@ -104,10 +104,10 @@ TEST(DiscreteObjectEdgeTest, HandComputedAngleAndAxisErrors) {
   auto edge = MakeEdge(
       {{Rigid3d::Identity(), IsotropicPoseSqrtInfo(0.05, 0.1), 1.0}}, anchor);
   // theta = 0.3 about z: R_wo = Rz(0.3), e = [0,0,0, 0,0,-0.3], r = e / 0.1.
-  State yawed(Rigid3d::Identity(),
-              Eigen::Vector3d::Zero(),
-              Eigen::Vector3d::UnitZ(),
-              0.3);
+  DiscreteState yawed(Rigid3d::Identity(),
+                      Eigen::Vector3d::Zero(),
+                      Eigen::Vector3d::UnitZ(),
+                      0.3);
   auto a = testing::EvaluateWithJacobians(*edge, yawed.Parameters());
   ASSERT_TRUE(a.ok);
   Eigen::Matrix<double, 7, 1> expected;
@@ -115,7 +115,7 @@ TEST(DiscreteObjectEdgeTest, HandComputedAngleAndAxisErrors) {
   EXPECT_LT((a.residuals - expected).norm(), 1e-12) << a.residuals.transpose();
   // Axis tilted by 0.2 rad about x: Swing(z -> a_w) = Rx(0.2) = R_wo,
   // e = [0,0,0, -0.2,0,0], r = e / 0.1.
-  State tilted(
+  DiscreteState tilted(
       Rigid3d::Identity(),
       Eigen::Vector3d::Zero(),
       AngleAxis(0.2, Eigen::Vector3d::UnitX()) * Eigen::Vector3d::UnitZ(),
@@ -177,7 +177,7 @@ TEST(DiscreteObjectEdgeTest, GradientCheckerPassesAt240RandomStates) {
                             random.Uniform(0.1, 1.0)});
     }
     auto edge = MakeEdge(components, anchor);
-    State state(T_wc, t_wo, a_w, theta);
+    DiscreteState state(T_wc, t_wo, a_w, theta);
     std::string message;
     EXPECT_TRUE(testing::GradientIsCorrect(
         *edge, manifolds, state.Parameters(), 1e-6, &message))
@@ -234,7 +234,7 @@ TEST(DiscreteObjectEdgeTest, HandWrittenJacobianEqualsAutoDiff) {
                                       3,
                                       1>
         autodiff(new DiscretePoseModel::ComponentFunctor{component, anchor});
-    State state(T_wc, t_wo, a_w, theta);
+    DiscreteState state(T_wc, t_wo, a_w, theta);
     Eigen::Map<Eigen::Vector4d>(state.camera.q) *= random.Uniform(0.9, 1.1);
     Eigen::Map<Eigen::Vector3d>(state.a_w) *= random.Uniform(0.9, 1.1);
     std::string message;
@@ -262,16 +262,16 @@ TEST(DiscreteObjectEdgeTest, WinnerSwitchesAtTheWeightedBoundary) {
   auto only1 = MakeEdge({{h1, Matrix6d::Identity(), 1.0}}, anchor);
   const double theta_switch = 0.5 + std::log(0.7 / 0.3);
   MixtureSelection selection;
-  State before(Rigid3d::Identity(),
-               Eigen::Vector3d::Zero(),
-               Eigen::Vector3d::UnitZ(),
-               theta_switch - 1e-7);
+  DiscreteState before(Rigid3d::Identity(),
+                       Eigen::Vector3d::Zero(),
+                       Eigen::Vector3d::UnitZ(),
+                       theta_switch - 1e-7);
   ASSERT_TRUE(edge->Select(before.Parameters().data(), &selection));
   EXPECT_EQ(selection.component, 0);
-  State after(Rigid3d::Identity(),
-              Eigen::Vector3d::Zero(),
-              Eigen::Vector3d::UnitZ(),
-              theta_switch + 1e-7);
+  DiscreteState after(Rigid3d::Identity(),
+                      Eigen::Vector3d::Zero(),
+                      Eigen::Vector3d::UnitZ(),
+                      theta_switch + 1e-7);
   ASSERT_TRUE(edge->Select(after.Parameters().data(), &selection));
   EXPECT_EQ(selection.component, 1);
   const auto mixed = testing::EvaluateWithJacobians(*edge, after.Parameters());

@@ -14,14 +14,14 @@
 namespace symba {
 namespace {
 
-constexpr double kPiTest = 3.14159265358979323846;
+constexpr double kSe3Pi = 3.14159265358979323846;
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 using Vector7d = Eigen::Matrix<double, 7, 1>;
 
 // Zero, tiny, both sides of the series switch (|w|^2 = 1e-4, angle 1e-2)
 // and of the SO(3) log's switch (angle 2e-4), ordinary, near / at pi.
-const std::vector<double>& EdgeAngles() {
+const std::vector<double>& Se3EdgeAngles() {
   static const std::vector<double> angles = {0.0,
                                              1e-10,
                                              1e-7,
@@ -32,9 +32,9 @@ const std::vector<double>& EdgeAngles() {
                                              1e-2 * (1.0 + 1e-9),
                                              0.3,
                                              2.0,
-                                             kPiTest - 1e-6,
-                                             kPiTest - 1e-9,
-                                             kPiTest};
+                                             kSe3Pi - 1e-6,
+                                             kSe3Pi - 1e-9,
+                                             kSe3Pi};
   return angles;
 }
 
@@ -58,8 +58,8 @@ Eigen::Matrix3d LeftJacobianBySeries(const Eigen::Vector3d& omega) {
   return sum.cast<double>();
 }
 
-double RotationDistance(const Eigen::Quaterniond& a,
-                        const Eigen::Quaterniond& b) {
+double Se3RotationDistance(const Eigen::Quaterniond& a,
+                           const Eigen::Quaterniond& b) {
   return std::min((a.coeffs() - b.coeffs()).norm(),
                   (a.coeffs() + b.coeffs()).norm());
 }
@@ -68,12 +68,12 @@ TEST(Se3Test, LeftJacobianMatchesItsSeries) {
   testing::TestRandom random(21);
   for (int i = 0; i < 500; ++i) {
     const Eigen::Vector3d omega =
-        random.Uniform(0.0, kPiTest) * random.UnitVector();
+        random.Uniform(0.0, kSe3Pi) * random.UnitVector();
     EXPECT_LT((SO3LeftJacobian(omega) - LeftJacobianBySeries(omega)).norm(),
               1e-14)
         << "angle " << omega.norm();
   }
-  for (const double angle : EdgeAngles()) {
+  for (const double angle : Se3EdgeAngles()) {
     const Eigen::Vector3d omega = angle * random.UnitVector();
     EXPECT_LT((SO3LeftJacobian(omega) - LeftJacobianBySeries(omega)).norm(),
               1e-14)
@@ -92,13 +92,13 @@ TEST(Se3Test, LeftJacobianTimesInverseIsIdentity) {
   testing::TestRandom random(22);
   for (int i = 0; i < 2000; ++i) {
     const Eigen::Vector3d omega =
-        random.Uniform(0.0, kPiTest) * random.UnitVector();
+        random.Uniform(0.0, kSe3Pi) * random.UnitVector();
     const Eigen::Matrix3d product =
         SO3LeftJacobian(omega) * SO3LeftJacobianInverse(omega);
     EXPECT_LT((product - Eigen::Matrix3d::Identity()).norm(), 1e-14)
         << "angle " << omega.norm();
   }
-  for (const double angle : EdgeAngles()) {
+  for (const double angle : Se3EdgeAngles()) {
     for (int i = 0; i < 20; ++i) {
       const Eigen::Vector3d omega = angle * random.UnitVector();
       const Eigen::Matrix3d V = SO3LeftJacobian(omega);
@@ -116,7 +116,7 @@ TEST(Se3Test, LeftJacobianFixesTheRotationAxis) {
   testing::TestRandom random(23);
   for (int i = 0; i < 200; ++i) {
     const Eigen::Vector3d omega =
-        random.Uniform(0.0, kPiTest) * random.UnitVector();
+        random.Uniform(0.0, kSe3Pi) * random.UnitVector();
     EXPECT_LT((SO3LeftJacobian(omega) * omega - omega).norm(), 1e-14);
     EXPECT_LT((SO3LeftJacobianInverse(omega) * omega - omega).norm(), 1e-14);
   }
@@ -126,12 +126,12 @@ TEST(Se3Test, ExpRotationIsExpSO3) {
   testing::TestRandom random(24);
   for (int i = 0; i < 500; ++i) {
     const Eigen::Vector3d omega =
-        random.Uniform(0.0, kPiTest) * random.UnitVector();
+        random.Uniform(0.0, kSe3Pi) * random.UnitVector();
     const Eigen::Vector3d rho = random.NormalVector(3.0);
     const Rigid3d T = ExpSE3(Twist(rho, omega));
     const Eigen::Quaterniond expected(
         Eigen::AngleAxisd(omega.norm(), omega.normalized()));
-    EXPECT_LT(RotationDistance(T.q, expected), 1e-15);
+    EXPECT_LT(Se3RotationDistance(T.q, expected), 1e-15);
     EXPECT_LT((T.t - LeftJacobianBySeries(omega) * rho).norm(),
               1e-14 * (1.0 + rho.norm()));
   }
@@ -143,7 +143,7 @@ TEST(Se3Test, ExpIsAScrewMotionAboutItsAxis) {
   // p + s w/|w| maps to p + (s + d) w/|w|.
   testing::TestRandom random(25);
   for (int i = 0; i < 500; ++i) {
-    const double angle = random.Uniform(1e-3, kPiTest);
+    const double angle = random.Uniform(1e-3, kSe3Pi);
     const Eigen::Vector3d axis = random.UnitVector();
     const Eigen::Vector3d omega = angle * axis;
     const Eigen::Vector3d p = random.NormalVector(2.0);
@@ -188,7 +188,7 @@ TEST(Se3Test, LogOfExpIsIdentityOnRandomInputs) {
   testing::TestRandom random(27);
   for (int i = 0; i < 2000; ++i) {
     const Eigen::Vector3d omega =
-        random.Uniform(0.0, kPiTest) * random.UnitVector();
+        random.Uniform(0.0, kSe3Pi) * random.UnitVector();
     const Eigen::Vector3d rho = random.NormalVector(3.0);
     const Vector6d xi = Twist(rho, omega);
     const Vector6d back = LogSE3(ExpSE3(xi));
@@ -204,9 +204,9 @@ TEST(Se3Test, ExpOfLogIsIdentityOnRandomInputs) {
   for (int i = 0; i < 2000; ++i) {
     const Rigid3d T(random.Rotation(), random.NormalVector(3.0));
     const Vector6d xi = LogSE3(T);
-    EXPECT_LE(xi.tail<3>().norm(), kPiTest);
+    EXPECT_LE(xi.tail<3>().norm(), kSe3Pi);
     const Rigid3d back = ExpSE3(xi);
-    EXPECT_LT(RotationDistance(back.q, T.q), 1e-15);
+    EXPECT_LT(Se3RotationDistance(back.q, T.q), 1e-15);
     EXPECT_LT((back.t - T.t).norm(), 1e-14 * (1.0 + T.t.norm()));
   }
 }
@@ -223,7 +223,7 @@ TEST(Se3Test, LogIsTheSameForBothSignsOfTheQuaternion) {
 
 TEST(Se3Test, RoundTripsAtEdgeAngles) {
   testing::TestRandom random(30);
-  for (const double angle : EdgeAngles()) {
+  for (const double angle : Se3EdgeAngles()) {
     for (int i = 0; i < 20; ++i) {
       const Eigen::Vector3d omega = angle * random.UnitVector();
       const Eigen::Vector3d rho = random.NormalVector(2.0);
@@ -232,17 +232,17 @@ TEST(Se3Test, RoundTripsAtEdgeAngles) {
       const Vector6d back = LogSE3(T);
       // exp(log(T)) == T always, pi included.
       const Rigid3d T_back = ExpSE3(back);
-      EXPECT_LT(RotationDistance(T_back.q, T.q), 1e-15) << "angle " << angle;
+      EXPECT_LT(Se3RotationDistance(T_back.q, T.q), 1e-15) << "angle " << angle;
       EXPECT_LT((T_back.t - T.t).norm(), 1e-13 * (1.0 + T.t.norm()))
           << "angle " << angle;
-      if (angle < kPiTest) {
+      if (angle < kSe3Pi) {
         // V is invertible up to and including pi (|V^-1| <= pi / 2), so rho
         // round-trips as well as omega does.
         EXPECT_LT((back - xi).norm(), 1e-14 * (1.0 + rho.norm()))
             << "angle " << angle;
       } else {
         // At pi, +-omega are both logarithms (and give different rho).
-        EXPECT_NEAR(back.tail<3>().norm(), kPiTest, 1e-15);
+        EXPECT_NEAR(back.tail<3>().norm(), kSe3Pi, 1e-15);
         EXPECT_LT(back.tail<3>().normalized().cross(omega.normalized()).norm(),
                   1e-15);
       }
@@ -285,7 +285,7 @@ TEST(Se3Test, ExpJetDerivativesMatchNumeric) {
                               random.Uniform(0.0, 3.0) * random.UnitVector());
     EXPECT_TRUE(testing::JetMatchesNumeric(ExpSE3Flat(), xi, 1e-8));
   }
-  for (const double angle : EdgeAngles()) {
+  for (const double angle : Se3EdgeAngles()) {
     for (int i = 0; i < 5; ++i) {
       const Vector6d xi =
           Twist(random.NormalVector(2.0), angle * random.UnitVector());
@@ -317,7 +317,7 @@ TEST(Se3Test, LogJetDerivativesMatchNumeric) {
     if (std::abs(T.q.w()) < 1e-2) continue;
     EXPECT_TRUE(testing::JetMatchesNumeric(LogSE3OfFlat(), Flatten(T), 1e-7));
   }
-  for (const double angle : EdgeAngles()) {
+  for (const double angle : Se3EdgeAngles()) {
     if (angle > 3.0) continue;
     for (int i = 0; i < 5; ++i) {
       const Rigid3d T(random.RotationOfAngle(angle), random.NormalVector(2.0));
@@ -325,7 +325,7 @@ TEST(Se3Test, LogJetDerivativesMatchNumeric) {
           << "angle " << angle;
     }
   }
-  for (const double angle : {kPiTest - 1e-2, kPiTest - 1e-4}) {
+  for (const double angle : {kSe3Pi - 1e-2, kSe3Pi - 1e-4}) {
     const Rigid3d T(random.RotationOfAngle(angle), random.NormalVector(2.0));
     EXPECT_TRUE(
         testing::JetMatchesNumeric(LogSE3OfFlat(), Flatten(T), 1e-6, 1e-8))

@@ -13,8 +13,8 @@
 namespace symba {
 namespace {
 
-double RotationDistance(const Eigen::Quaterniond& a,
-                        const Eigen::Quaterniond& b) {
+double TwistRotationDistance(const Eigen::Quaterniond& a,
+                             const Eigen::Quaterniond& b) {
   return std::min((a.coeffs() - b.coeffs()).norm(),
                   (a.coeffs() + b.coeffs()).norm());
 }
@@ -60,8 +60,8 @@ void ExpectValidDecomposition(const Eigen::Quaterniond& q,
   // The angle is the twist's, signed by the right-hand rule about the axis.
   EXPECT_GT(st.twist_angle, -kPi);
   EXPECT_LE(st.twist_angle, kPi);
-  EXPECT_LT(RotationDistance(ExpSO3(Eigen::Vector3d(st.twist_angle * axis)),
-                             st.twist),
+  EXPECT_LT(TwistRotationDistance(
+                ExpSO3(Eigen::Vector3d(st.twist_angle * axis)), st.twist),
             1e-15);
 }
 
@@ -106,8 +106,8 @@ TEST(SwingTwistTest, SwingTimesKnownTwistRecoversTheTwistAngle) {
     const double amplification = 1.0 / std::cos(0.5 * swing_angle);
     EXPECT_NEAR(st.twist_angle, twist_angle, 4e-15 * amplification)
         << "swing " << swing_angle << " twist " << twist_angle;
-    EXPECT_LT(RotationDistance(st.twist, twist), 2e-15 * amplification);
-    EXPECT_LT(RotationDistance(st.swing, swing), 2e-15 * amplification);
+    EXPECT_LT(TwistRotationDistance(st.twist, twist), 2e-15 * amplification);
+    EXPECT_LT(TwistRotationDistance(st.swing, swing), 2e-15 * amplification);
     // -q is the same rotation and has the same decomposition.
     const Eigen::Quaterniond minus_q(-q.w(), -q.x(), -q.y(), -q.z());
     EXPECT_EQ(TwistAngle(minus_q, axis), st.twist_angle);
@@ -122,7 +122,7 @@ TEST(SwingTwistTest, PureTwistHasIdentitySwing) {
     const Eigen::Quaterniond q(Eigen::AngleAxisd(angle, axis));
     const SwingTwist<double> st = DecomposeSwingTwist(q, axis);
     EXPECT_NEAR(st.twist_angle, angle, 1e-15);
-    EXPECT_LT(RotationDistance(st.swing, Eigen::Quaterniond::Identity()),
+    EXPECT_LT(TwistRotationDistance(st.swing, Eigen::Quaterniond::Identity()),
               1e-15);
   }
 }
@@ -137,7 +137,7 @@ TEST(SwingTwistTest, PureSwingHasZeroTwist) {
     const SwingTwist<double> st = DecomposeSwingTwist(q, axis);
     const double amplification = 1.0 / std::cos(0.5 * angle);
     EXPECT_NEAR(st.twist_angle, 0.0, 4e-15 * amplification);
-    EXPECT_LT(RotationDistance(st.twist, Eigen::Quaterniond::Identity()),
+    EXPECT_LT(TwistRotationDistance(st.twist, Eigen::Quaterniond::Identity()),
               2e-15 * amplification);
   }
 }
@@ -185,8 +185,8 @@ TEST(SwingTwistTest, TwistOfExactlyPiIsPlusPi) {
           Eigen::Quaterniond(-0.0, -a.x(), -a.y(), -a.z())}) {
       const SwingTwist<double> st = DecomposeSwingTwist(q, a);
       EXPECT_EQ(st.twist_angle, kPi);
-      EXPECT_LT(RotationDistance(st.twist, q), 1e-15);
-      EXPECT_LT(RotationDistance(st.swing, Eigen::Quaterniond::Identity()),
+      EXPECT_LT(TwistRotationDistance(st.twist, q), 1e-15);
+      EXPECT_LT(TwistRotationDistance(st.swing, Eigen::Quaterniond::Identity()),
                 1e-15);
     }
     // Via AngleAxis, w = cos(pi / 2) = 6e-17 > 0: pi to rounding.

@@ -111,8 +111,10 @@ class Backend {
   // (docs/backend.md "Covariances"): from the last solve, or for an object
   // outside it from its marginalised observations; an object neither
   // covers (no solve yet, or outside the window without a prior) is left
-  // out. Costs a factorisation of the last solve's problem. Fails if that
-  // problem is rank deficient.
+  // out. Costs a factorisation of the last solve's problem, which it first
+  // syncs with the edges rebuilt since (so a call between solves may change
+  // the next solve's result at round-off level). Fails if that problem is
+  // rank deficient.
   Status ObjectCovariances(std::vector<MapObjectCovariance>* covariances);
   const BackendOptions& options() const;
 

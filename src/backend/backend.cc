@@ -65,12 +65,6 @@ Status Backend::Impl::ObjectCovariances(
   return internal::ObjectCovariances(map_.objects(), &graph_, covariances);
 }
 
-int Backend::Impl::WindowStart() const {
-  return std::max(
-      0,
-      static_cast<int>(trajectory_.keyframes().size()) - options_.window_size);
-}
-
 // ---------------------------------------------------------------------------
 // Keyframes.
 
@@ -137,7 +131,10 @@ Status Backend::Impl::OptimizeWindow(SolveReport* report) {
   }
   const auto start = std::chrono::steady_clock::now();
   internal::SolveOutcome outcome;
-  graph_.SolveWindow(WindowStart(), &outcome);
+  graph_.SolveWindow(std::max(0,
+                              static_cast<int>(trajectory_.keyframes().size()) -
+                                  options_.window_size),
+                     &outcome);
   return Finish("window", outcome, start, report);
 }
 
@@ -237,6 +234,8 @@ MapObjectEstimate Backend::Impl::EstimateOf(const ObjectState& object) const {
     const internal::UpgradeRecord& u = *object.upgrade;
     e.upgrade = MapObjectEstimate::Upgrade{
         trajectory_.keyframes()[u.keyframe]->id, u.evidence, u.order, u.angle};
+  } else {
+    e.upgrade = object.loaded_upgrade;
   }
   if (object.type == SymmetryType::kAsymmetric) {
     e.poses.push_back(Rigid3d(object.Rotation(-1), e.t_wo));
@@ -332,6 +331,10 @@ Status Backend::ObjectCovariances(
     std::vector<MapObjectCovariance>* covariances) {
   return impl_->ObjectCovariances(covariances);
 }
+
+Status Backend::SaveMap(SavedMap* map) { return impl_->SaveMap(map); }
+
+Status Backend::LoadMap(const SavedMap& map) { return impl_->LoadMap(map); }
 
 const BackendOptions& Backend::options() const { return impl_->options_; }
 

@@ -6,6 +6,7 @@
 // member functions are defined in
 //   backend.cc      AddKeyframe, the solves, read-back
 //   detections.cc   a keyframe's detections, per method
+//   saved_map.cc    SaveMap, LoadMap
 // Association (association.h), detection observations
 // (detection_observations.h) and input checks (keyframe_validation.h) are
 // units of their own. Not installed.
@@ -38,7 +39,6 @@ class Backend::Impl {
                      std::vector<DetectionAssignment>* assignments);
   Status OptimizeWindow(SolveReport* report);
   Status OptimizeBatch(SolveReport* report);
-  int WindowStart() const;
 
   std::vector<KeyframeEstimate> Keyframes() const;
   std::vector<MapObjectEstimate> Objects() const;
@@ -46,6 +46,9 @@ class Backend::Impl {
   std::optional<MapObjectEstimate> Object(ObjectId id) const;
   std::vector<ClassNoiseEstimate> Noise() const;
   Status ObjectCovariances(std::vector<MapObjectCovariance>* covariances);
+  // A map that lasts (saved_map.cc, docs/map-format.md).
+  Status SaveMap(SavedMap* map);
+  Status LoadMap(const SavedMap& map);
 
   const BackendOptions options_;
   std::vector<DetectionAssignment> assignments_;

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "symba/backend/estimates.h"
 #include "symba/categorization/symmetry_type.h"
 #include "symba/factors/discrete_object_edge.h"
 #include "symba/factors/pose_component.h"
@@ -114,6 +115,9 @@ struct ObjectState {
   std::vector<int> assignments;    // indices into the backend's assignments
   std::vector<FlipEvidence> flips;
   std::optional<UpgradeRecord> upgrade;
+  // The upgrade a loaded object had in the run that saved it (reported as
+  // it was; `upgrade` is this run's).
+  std::optional<MapObjectEstimate::Upgrade> loaded_upgrade;
   // Its detections where the front end alone puts them (detection_noise.h):
   // running sums for the mean position and rotation, and the last one.
   Eigen::Vector3d chain_position_sum = Eigen::Vector3d::Zero();

@@ -49,7 +49,8 @@ int FactorGraph::Add(FactorRecord record) {
   record.marginalized = options_.window_policy != WindowPolicy::kCondition &&
                         record.keyframe < marginalized_until_;
   const int f = problem_.size();
-  keyframes_[record.keyframe]->factors.push_back(f);
+  // A loaded object's prior belongs to no keyframe.
+  if (record.keyframe >= 0) keyframes_[record.keyframe]->factors.push_back(f);
   if (record.keyframe2 >= 0) keyframes_[record.keyframe2]->factors.push_back(f);
   // Only the condition policy reads a point's factors.
   if (record.point >= 0 && options_.window_policy == WindowPolicy::kCondition) {

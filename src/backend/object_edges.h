@@ -43,6 +43,10 @@ class ObjectEdges {
   bool ApplyNoise(const std::string& class_name, const ClassNoise& estimate);
   // The noise applied to the class's edges (empty sigmas: none yet).
   ClassNoise AppliedNoise(const std::string& class_name) const;
+  // Every class's applied noise, by name.
+  const std::map<std::string, ClassNoise>& applied_noise() const {
+    return applied_noise_;
+  }
 
  private:
   // The edge of object o's observation i.

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <utility>
 
+#include "backend/loaded_object_prior.h"
 #include "backend/upgrade_evidence.h"
 #include "symba/geometry/pi.h"
 #include "symba/geometry/swing_twist.h"
@@ -145,6 +146,44 @@ void ObjectMap::Drop(int o) {
   object.prior_factor = -1;
   for (int a : object.assignments) (*assignments_)[a].object = -1;
   ++statistics_->objects_dropped;
+}
+
+void ObjectMap::Load(const MapObjectEstimate& e) {
+  while (static_cast<int>(objects_.size()) < e.id) {
+    auto placeholder = std::make_unique<ObjectState>();
+    placeholder->id = static_cast<int>(objects_.size());
+    placeholder->status = ObjectStatus::kDropped;
+    objects_.push_back(std::move(placeholder));
+  }
+  // Its angle-0 pose: a symmetric object's anchor makes theta = angles[0]
+  // (or 0 for a continuous one) reproduce the first pose.
+  Rigid3d T_wo(e.poses.front().q.normalized(), e.t_wo);
+  if (e.symmetry == SymmetryType::kDiscrete) {
+    T_wo.q = T_wo.q * Eigen::Quaterniond(Eigen::AngleAxisd(
+                          -e.angles.front(), e.axis_o.normalized()));
+  }
+  const int o = Create(e.class_name, e.symmetry, T_wo, -1);
+  ObjectState& object = *objects_[o];
+  if (object.status == ObjectStatus::kTentative) {
+    tentative_.pop_back();
+    object.status = ObjectStatus::kConfirmed;
+    ++statistics_->objects;
+  }
+  object.detections = e.observations;
+  object.loaded_upgrade = e.upgrade;
+  if (e.symmetry != SymmetryType::kAsymmetric) {
+    object.a_o = e.axis_o.normalized();
+    object.anchor = SymmetryAnchor::FromObjectRotation(T_wo.q, object.a_o);
+    Eigen::Map<Eigen::Vector3d>(object.a_w) = object.anchor.a_w0;
+  }
+  for (double angle : e.angles) {
+    object.thetas.push_back(std::make_unique<double>(angle));
+  }
+  FactorRecord record;
+  if (e.covariance &&
+      MakeLoadedObjectPrior(o, &object, *e.covariance, &record)) {
+    object.prior_factor = graph_->Add(std::move(record));
+  }
 }
 
 // ---------------------------------------------------------------------------

@@ -97,6 +97,12 @@ class ObjectMap {
                    const Eigen::Vector3d& t_co,
                    const std::optional<Eigen::Quaterniond>& R_co);
 
+  // A confirmed object from a saved map (Backend::LoadMap) with id and
+  // index `e.id` (the indices below it that no loaded object takes are
+  // dropped placeholders) and the prior of its covariance, if any. Before
+  // any other object; e is valid (ValidateSavedMap).
+  void Load(const MapObjectEstimate& e);
+
  private:
   void Drop(int o);
   // The class prior's symmetry order when it applies to object o (discrete

@@ -349,6 +349,12 @@ Status ReadJsonFile(const std::string& path, JsonTree* tree) {
   std::string text;
   Status status = internal::ReadText(path, &text);
   if (!status.ok()) return status;
+  return ParseJsonText(text, path, tree);
+}
+
+Status ParseJsonText(const std::string& text,
+                     const std::string& path,
+                     JsonTree* tree) {
   JsonError error;
   if (ParseJson(text, tree, &error)) return Status::Ok();
   // error.offset bytes were read when parsing stopped (one past the end at

@@ -134,6 +134,10 @@ Status ObjectIdentity(const JsonTreeReader& r,
 // Reads the file `path` and parses it as one JSON text into `tree`; a syntax
 // error reads "PATH:LINE: invalid JSON at column C: REASON".
 Status ReadJsonFile(const std::string& path, JsonTree* tree);
+// The same for a text already read; `path` names it in messages.
+Status ParseJsonText(const std::string& text,
+                     const std::string& path,
+                     JsonTree* tree);
 
 }  // namespace io_internal
 }  // namespace symba

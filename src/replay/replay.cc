@@ -62,6 +62,10 @@ Status ReplayLog(const std::string& log_path,
                            reader->header().classes,
                            &backend);
   if (!status.ok()) return Status::Error("options: " + status.message());
+  if (options.map_in) {
+    status = backend->LoadMap(*options.map_in);
+    if (!status.ok()) return status;
+  }
 
   ReplayResult replay;
   replay.header = reader->header();
@@ -100,6 +104,11 @@ Status ReplayLog(const std::string& log_path,
   }
   replay.statistics = backend->Statistics();
   replay.noise = backend->Noise();
+  if (options.save_map) {
+    replay.map.emplace();
+    status = backend->SaveMap(&*replay.map);
+    if (!status.ok()) return status;
+  }
   replay.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();

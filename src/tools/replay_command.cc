@@ -17,6 +17,7 @@
 #include "symba/export/refined_bop_results.h"
 #include "symba/geometry/angle.h"
 #include "symba/io/file_output.h"
+#include "symba/io/map_file.h"
 #include "symba/io/pose_graph.h"
 #include "symba/pose_graph/optimize_pose_graph.h"
 #include "symba/replay/replay.h"
@@ -35,6 +36,8 @@ struct ReplayFlags {
   std::string mode = "window";
   std::string bop_out;  // --bop-out: the refined poses as BOP results
   int bop_scene = -1;   // --bop-scene; -1: the log header's
+  std::string map_in;   // --map-in: start from this map file
+  std::string map_out;  // --map-out: write the map at the end here
   bool quiet = false;
   bool final_batch = false;
   bool g2o_isotropic = false;
@@ -174,6 +177,16 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                   "--bop-out: the BOP scene id (default: the log header's "
                   "bop.scene_id, written by symba import bop)")
       ->check(CLI::NonNegativeNumber & symba::tools::FiniteNumber());
+  cmd->add_option("--map-in",
+                  f->map_in,
+                  "start from this map (a map file written by --map-out; "
+                  "docs/map-format.md): its objects with their ids and "
+                  "covariances, its classes' noise; the log's poses are in "
+                  "the map's frame");
+  cmd->add_option("--map-out",
+                  f->map_out,
+                  "also write the map at the end as a map file (written "
+                  "atomically; docs/map-format.md)");
   cmd->add_flag(
       "--quiet", f->quiet, "no progress and no summary line on stderr");
   return cmd;
@@ -282,13 +295,27 @@ void PrintReplaySummary(const ReplayFlags& f,
                result.seconds);
   if (!f.bop_out.empty())
     std::fprintf(stderr, "; BOP results %s", f.bop_out.c_str());
+  if (!f.map_out.empty()) std::fprintf(stderr, "; map %s", f.map_out.c_str());
   std::fprintf(stderr, "\n");
+}
+
+// --map-out must be a file that can be replaced, next to no input, and not
+// the --map-in (a map is only read before the replay; the file is written
+// after it).
+symba::Status CheckMapOut(const ReplayFlags& f) {
+  symba::Status status = symba::CheckFileTarget(f.map_out);
+  if (status.ok()) status = CheckParentExists(f.map_out);
+  if (status.ok()) status = symba::CheckOutputSparesInputs(f.map_out, {f.log});
+  return status;
 }
 
 int RunReplay(const ReplayFlags& f) {
   if (EndsWith(f.log, ".g2o")) {
     if (!f.bop_out.empty()) {
       return Fail("--bop-out: a pose graph (.g2o) has no objects");
+    }
+    if (!f.map_in.empty() || !f.map_out.empty()) {
+      return Fail("--map-in, --map-out: a pose graph (.g2o) has no objects");
     }
     return RunPoseGraphReplay(f);
   }
@@ -305,7 +332,15 @@ int RunReplay(const ReplayFlags& f) {
     };
   }
   symba::ReplayResult result;
-  symba::Status status = symba::CheckOutputSparesInputs(f.out, {f.log});
+  symba::Status status =
+      symba::CheckOutputSparesInputs(f.out, {f.log, f.map_in});
+  if (status.ok() && !f.map_out.empty()) status = CheckMapOut(f);
+  if (status.ok() && !f.map_in.empty()) {
+    options.map_in.emplace();
+    status = symba::ReadMapFile(f.map_in, &*options.map_in);
+    if (!status.ok()) status = symba::Status::Error(status.message());
+  }
+  options.save_map = !f.map_out.empty();
   if (status.ok()) status = symba::ReplayLog(f.log, options, &result);
   if (show_progress) std::fprintf(stderr, "\n");
   std::vector<symba::BopResult> bop_rows;
@@ -316,6 +351,10 @@ int RunReplay(const ReplayFlags& f) {
   }
   if (status.ok() && !f.bop_out.empty()) {
     status = symba::WriteBopResultsCsv(f.bop_out, bop_rows);
+  }
+  if (status.ok() && result.map) {
+    status = symba::WriteFileAtomically(f.map_out,
+                                        symba::FormatMapFile(*result.map));
   }
   if (!status.ok()) return Fail(status.message());
   if (!f.quiet) PrintReplaySummary(f, result);

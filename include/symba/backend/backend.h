@@ -18,6 +18,7 @@
 //                    options().keep_history once keyframes left the window.
 //   Keyframe / Object          one estimate by id (cheap: for every frame)
 //   Keyframes / Objects / Assignments   every estimate (O(run))
+//   SaveMap / LoadMap          a map that lasts (docs/map-format.md)
 //
 // The Ceres problem persists: a window solve adds the factors that became
 // active and removes those that left the window; nothing is rebuilt per
@@ -36,6 +37,7 @@
 #include "symba/backend/backend_options.h"
 #include "symba/backend/estimates.h"
 #include "symba/backend/keyframe_input.h"
+#include "symba/backend/saved_map.h"
 #include "symba/categorization/categorize.h"
 #include "symba/common/status.h"
 #include "symba/geometry/pinhole_intrinsics.h"
@@ -116,6 +118,17 @@ class Backend {
   // the next solve's result at round-off level). Fails if that problem is
   // rank deficient.
   Status ObjectCovariances(std::vector<MapObjectCovariance>* covariances);
+  // The map as it stands (docs/map-format.md): the confirmed objects with
+  // their covariances (without any where ObjectCovariances fails) and each
+  // class's detection noise. Costs what ObjectCovariances costs.
+  Status SaveMap(SavedMap* map);
+  // Starts the run from a saved map, before the first keyframe: its
+  // objects become confirmed map objects with their ids, each keeping its
+  // covariance as a prior, and its classes' noise weighs their detections
+  // until the run's own estimate moves away from it. Keyframes must then
+  // be given in the map's frame. Fails, changing nothing, after a keyframe
+  // or an earlier LoadMap, or on an invalid map (ids, numbers, poses).
+  Status LoadMap(const SavedMap& map);
   const BackendOptions& options() const;
 
  private:

@@ -3,7 +3,8 @@
 //
 //   {"objects": [{id, class, symmetry, t, axis?, angles?, poses,
 //                 observations, position_covariance?, rotation_covariance?,
-//                 axis_covariance?, angle_variances?, covariance_source?}]}
+//                 axis_covariance?, angle_variances?, covariance_source?,
+//                 upgrade?}]}
 //
 // axis only for symmetric objects, angles only for discrete ones; poses are
 // {"t": [x, y, z], "q": [qx, qy, qz, qw]}; the covariances (docs/replay.md)
@@ -22,7 +23,8 @@ namespace symba {
 std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects);
 
 // Reads objects.json strictly: errors "PATH:LINE: invalid JSON: ..." or
-// "PATH: where: reason". axis_o is not in the file and stays zero.
+// "PATH: where: reason". axis_o is not in the file: a symmetric object's is
+// its first pose's rotation applied backwards to the axis.
 Status ReadObjectsJson(const std::string& path,
                        std::vector<MapObjectEstimate>* objects);
 

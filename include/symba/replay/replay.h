@@ -7,6 +7,7 @@
 #define SYMBA_REPLAY_REPLAY_H_
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,10 @@ struct ReplayOptions {
   // window made it).
   bool final_batch = false;
   BackendOptions backend;
+  // Start from this saved map (Backend::LoadMap; docs/map-format.md).
+  std::optional<SavedMap> map_in;
+  // Also give the map at the end (ReplayResult::map; Backend::SaveMap).
+  bool save_map = false;
   // Called after each keyframe with the number replayed so far (optional).
   std::function<void(int)> progress;
 };
@@ -42,7 +47,8 @@ struct ReplayResult {
   // Why no object has a covariance (Backend::ObjectCovariances failed);
   // empty when they were computed.
   std::string covariance_note;
-  double seconds = 0.0;  // wall time of the whole replay
+  std::optional<SavedMap> map;  // with ReplayOptions::save_map
+  double seconds = 0.0;         // wall time of the whole replay
 };
 
 // Reads `log_path` and replays it. Errors name the file and line.

@@ -1,0 +1,237 @@
+// A map that lasts (Backend::SaveMap / LoadMap, docs/map-format.md): the
+// second half of a simulated run started from the first half's map reuses
+// every mapped object and tracks as well as the whole run did; a loaded
+// object keeps its covariance as a prior; ids survive; bad maps and late
+// loads are refused without changing anything.
+#include <cmath>
+#include <memory>
+#include <set>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+
+#include "symba/backend/backend.h"
+#include "symba/simulation/simulator.h"
+
+namespace symba {
+namespace {
+
+std::unique_ptr<Backend> NewSavedMapBackend(const SimulatedSequence& sequence) {
+  std::unique_ptr<Backend> backend;
+  EXPECT_TRUE(Backend::Create(BackendOptions(),
+                              sequence.header.camera,
+                              sequence.header.classes,
+                              &backend)
+                  .ok());
+  return backend;
+}
+
+void RunKeyframes(const std::vector<KeyframeInput>& keyframes,
+                  Backend* backend) {
+  for (const KeyframeInput& keyframe : keyframes) {
+    ASSERT_TRUE(backend->AddKeyframe(keyframe).ok()) << keyframe.id;
+    ASSERT_TRUE(backend->OptimizeWindow().ok()) << keyframe.id;
+  }
+}
+
+// Keyframe position RMSE over keyframes [first, end) of the sequence.
+double SecondHalfRmse(const SimulatedSequence& sequence,
+                      const std::vector<KeyframeEstimate>& estimates,
+                      size_t first) {
+  double sum = 0.0;
+  size_t n = 0;
+  for (const KeyframeEstimate& e : estimates) {
+    const size_t k = static_cast<size_t>(e.id);
+    if (k < first) continue;
+    sum += (e.T_wc.t - sequence.T_wc_true[k].t).squaredNorm();
+    ++n;
+  }
+  return std::sqrt(sum / static_cast<double>(n));
+}
+
+TEST(BackendSavedMap, SecondHalfFromTheFirstHalfsMapReusesEveryObject) {
+  SimulatedSequence sequence;
+  ASSERT_TRUE(Simulate("room", SimulationOptions(), 3, &sequence).ok());
+  const size_t half = sequence.keyframes.size() / 2;
+  const std::vector<KeyframeInput> first(sequence.keyframes.begin(),
+                                         sequence.keyframes.begin() + half);
+  std::vector<KeyframeInput> second(sequence.keyframes.begin() + half,
+                                    sequence.keyframes.end());
+
+  std::unique_ptr<Backend> whole = NewSavedMapBackend(sequence);
+  ASSERT_NO_FATAL_FAILURE(RunKeyframes(sequence.keyframes, whole.get()));
+  std::unique_ptr<Backend> before = NewSavedMapBackend(sequence);
+  ASSERT_NO_FATAL_FAILURE(RunKeyframes(first, before.get()));
+  SavedMap map;
+  ASSERT_TRUE(before->SaveMap(&map).ok());
+  ASSERT_EQ(map.objects.size(), sequence.objects.size());
+  for (const MapObjectEstimate& o : map.objects) {
+    EXPECT_TRUE(o.covariance.has_value()) << o.id;
+  }
+
+  // The second half in the map's frame: its first pose from the first
+  // half's last estimate and the odometry, the rest by odometry alone.
+  ASSERT_TRUE(second.front().odometry.has_value());
+  second.front().T_wc =
+      before->Keyframes().back().T_wc * second.front().odometry->T_prev_cur;
+  second.front().odometry.reset();
+  for (size_t k = 1; k < second.size(); ++k) second[k].T_wc.reset();
+
+  std::unique_ptr<Backend> after = NewSavedMapBackend(sequence);
+  ASSERT_TRUE(after->LoadMap(map).ok());
+  ASSERT_NO_FATAL_FAILURE(RunKeyframes(second, after.get()));
+  std::set<ObjectId> loaded;
+  for (const MapObjectEstimate& o : map.objects) loaded.insert(o.id);
+  std::set<ObjectId> now;
+  for (const MapObjectEstimate& o : after->Objects()) now.insert(o.id);
+  EXPECT_EQ(now, loaded);
+  EXPECT_EQ(after->Statistics().objects, static_cast<int>(loaded.size()));
+  // Every detection went to a loaded object.
+  for (const DetectionAssignment& a : after->Assignments()) {
+    EXPECT_EQ(loaded.count(a.object), 1u) << a.detection;
+  }
+  const double from_map = SecondHalfRmse(sequence, after->Keyframes(), half);
+  const double at_once = SecondHalfRmse(sequence, whole->Keyframes(), half);
+  EXPECT_LT(from_map, 1.2 * at_once) << from_map << " vs " << at_once;
+}
+
+MapObjectEstimate SavedChair(ObjectId id) {
+  MapObjectEstimate o;
+  o.id = id;
+  o.class_name = "chair";
+  o.t_wo = Eigen::Vector3d(1, 2, 0.5);
+  o.poses = {Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(
+                         0.3, Eigen::Vector3d(1, 1, 0).normalized())),
+                     o.t_wo)};
+  o.observations = 12;
+  MapObjectCovariance c;
+  c.id = id;
+  c.position << 4e-4, 1e-5, 0, 1e-5, 9e-4, 2e-5, 0, 2e-5, 1e-4;
+  c.rotation = Eigen::Vector3d(1e-3, 2e-3, 5e-4).asDiagonal();
+  o.covariance = c;
+  return o;
+}
+
+MapObjectEstimate SavedTable(ObjectId id) {
+  MapObjectEstimate o;
+  o.id = id;
+  o.class_name = "table";
+  o.symmetry = SymmetryType::kDiscrete;
+  o.t_wo = Eigen::Vector3d(-1, 0, 0.4);
+  o.axis_o = Eigen::Vector3d::UnitZ();
+  const Eigen::Quaterniond tilt(
+      Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()));
+  o.axis_w = tilt * o.axis_o;
+  o.angles = {0.4, 0.4 + M_PI};
+  for (double a : o.angles) {
+    o.poses.push_back(Rigid3d(
+        tilt * Eigen::Quaterniond(Eigen::AngleAxisd(a, o.axis_o)), o.t_wo));
+  }
+  o.observations = 30;
+  MapObjectCovariance c;
+  c.id = id;
+  c.position = Eigen::Matrix3d::Identity() * 2.5e-3;
+  // Rank 2, tangent to the sphere at the axis.
+  const Eigen::Vector3d b1 = tilt * Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d b2 = tilt * Eigen::Vector3d::UnitY();
+  c.axis = 4e-4 * b1 * b1.transpose() + 1e-4 * b2 * b2.transpose();
+  c.angle_variances = {9e-4, std::nullopt};
+  o.covariance = c;
+  return o;
+}
+
+TEST(BackendSavedMap, LoadedObjectsKeepIdsPosesAndCovariances) {
+  SavedMap map;
+  map.objects = {SavedTable(5), SavedChair(2)};
+  map.noise = {{"chair", 0.04, 0.2}};
+  std::unique_ptr<Backend> backend;
+  ASSERT_TRUE(
+      Backend::Create(BackendOptions(), std::nullopt, {}, &backend).ok());
+  ASSERT_TRUE(backend->LoadMap(map).ok());
+
+  const std::vector<MapObjectEstimate> objects = backend->Objects();
+  ASSERT_EQ(objects.size(), 2u);
+  const MapObjectEstimate& chair = objects[0];
+  EXPECT_EQ(chair.id, 2);
+  EXPECT_EQ(chair.observations, 12);
+  EXPECT_NEAR((chair.t_wo - SavedChair(2).t_wo).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(
+      chair.poses[0].q.angularDistance(SavedChair(2).poses[0].q), 0.0, 1e-12);
+  const MapObjectEstimate& table = objects[1];
+  EXPECT_EQ(table.id, 5);
+  ASSERT_EQ(table.angles.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_NEAR(table.angles[i], SavedTable(5).angles[i], 1e-15);
+    EXPECT_NEAR(
+        table.poses[i].q.angularDistance(SavedTable(5).poses[i].q), 0.0, 1e-9);
+  }
+  EXPECT_NEAR((table.axis_w - SavedTable(5).axis_w).norm(), 0.0, 1e-12);
+
+  // Without a solve, the covariances are the loaded priors' own.
+  std::vector<MapObjectCovariance> covariances;
+  ASSERT_TRUE(backend->ObjectCovariances(&covariances).ok());
+  ASSERT_EQ(covariances.size(), 2u);
+  const MapObjectCovariance& c_chair = covariances[0];
+  EXPECT_EQ(c_chair.source, MapObjectCovariance::Source::kPrior);
+  EXPECT_NEAR((c_chair.position - SavedChair(2).covariance->position).norm(),
+              0.0,
+              1e-12);
+  ASSERT_TRUE(c_chair.rotation.has_value());
+  EXPECT_NEAR((*c_chair.rotation - *SavedChair(2).covariance->rotation).norm(),
+              0.0,
+              1e-9);
+  const MapObjectCovariance& c_table = covariances[1];
+  ASSERT_TRUE(c_table.axis.has_value());
+  EXPECT_NEAR(
+      (*c_table.axis - *SavedTable(5).covariance->axis).norm(), 0.0, 1e-9);
+  ASSERT_EQ(c_table.angle_variances.size(), 2u);
+  ASSERT_TRUE(c_table.angle_variances[0].has_value());
+  EXPECT_NEAR(*c_table.angle_variances[0], 9e-4, 1e-12);
+  EXPECT_FALSE(c_table.angle_variances[1].has_value());
+
+  SavedMap saved;
+  ASSERT_TRUE(backend->SaveMap(&saved).ok());
+  ASSERT_EQ(saved.noise.size(), 1u);
+  EXPECT_EQ(saved.noise[0].class_name, "chair");
+  EXPECT_EQ(saved.noise[0].sigma_t, 0.04);
+  EXPECT_EQ(saved.noise[0].sigma_r, 0.2);
+}
+
+TEST(BackendSavedMap, BadMapsAndLateLoadsChangeNothing) {
+  std::unique_ptr<Backend> backend;
+  ASSERT_TRUE(
+      Backend::Create(BackendOptions(), std::nullopt, {}, &backend).ok());
+  SavedMap twice;
+  twice.objects = {SavedChair(1), SavedTable(1)};
+  Status status = backend->LoadMap(twice);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("map object 1: duplicate id"),
+            std::string::npos)
+      << status.message();
+  SavedMap bad_pose;
+  bad_pose.objects = {SavedChair(0)};
+  bad_pose.objects[0].poses[0].q.coeffs() *= 2.0;
+  status = backend->LoadMap(bad_pose);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("unit quaternion"), std::string::npos);
+  SavedMap bad_noise;
+  bad_noise.noise = {{"chair", -1.0, std::nullopt}};
+  EXPECT_FALSE(backend->LoadMap(bad_noise).ok());
+  EXPECT_TRUE(backend->Objects().empty());
+
+  KeyframeInput keyframe;
+  keyframe.id = 0;
+  keyframe.T_wc = Rigid3d();
+  ASSERT_TRUE(backend->AddKeyframe(keyframe).ok());
+  SavedMap good;
+  good.objects = {SavedChair(0)};
+  status = backend->LoadMap(good);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("before the first keyframe"),
+            std::string::npos);
+  EXPECT_TRUE(backend->Objects().empty());
+}
+
+}  // namespace
+}  // namespace symba

@@ -1,0 +1,61 @@
+cmake_minimum_required(VERSION 3.16)
+# symba replay --map-out / --map-in (docs/map-format.md): a simulated room
+# replayed with --map-out writes a map file with its five objects; the same
+# log replayed from that map with --map-in (its poses are in the map's frame
+# up to the front end's drift) writes a complete replay; a map file that is
+# not one is refused with its name, the member and exit 1, and no output.
+# Inputs: SYMBA (the binary), WORK_DIR.
+file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR})
+execute_process(COMMAND ${SYMBA} simulate --scene room --seed 3
+    --out ${WORK_DIR}/sim
+  RESULT_VARIABLE rc ERROR_VARIABLE stderr)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "simulate failed (${rc}): ${stderr}")
+endif()
+set(map ${WORK_DIR}/map.json)
+execute_process(COMMAND ${SYMBA} replay ${WORK_DIR}/sim/log.jsonl
+    --out ${WORK_DIR}/first --map-out ${map}
+  RESULT_VARIABLE rc ERROR_VARIABLE stderr)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "replay --map-out failed (${rc}): ${stderr}")
+endif()
+string(FIND "${stderr}" "; map ${map}" at)
+if(at EQUAL -1)
+  message(FATAL_ERROR "the summary line must name the map: ${stderr}")
+endif()
+file(READ ${map} text)
+string(FIND "${text}" "\"format\": \"symba-map\"" at)
+if(at EQUAL -1)
+  message(FATAL_ERROR "not a map file: ${text}")
+endif()
+string(REGEX MATCHALL "\"class\": \"[a-z_]+\",\n      \"symmetry\"" objects "${text}")
+list(LENGTH objects count)
+if(NOT count EQUAL 5)
+  message(FATAL_ERROR "expected 5 objects in the map, found ${count}")
+endif()
+
+execute_process(COMMAND ${SYMBA} replay ${WORK_DIR}/sim/log.jsonl
+    --out ${WORK_DIR}/again --map-in ${map} --map-out ${WORK_DIR}/map2.json
+    --quiet
+  RESULT_VARIABLE rc ERROR_VARIABLE stderr)
+if(NOT rc EQUAL 0 OR NOT EXISTS ${WORK_DIR}/again/objects.json
+   OR NOT EXISTS ${WORK_DIR}/map2.json)
+  message(FATAL_ERROR "replay --map-in failed (${rc}): ${stderr}")
+endif()
+
+string(REPLACE "\"symba-map\"" "\"symba-log\"" bad "${text}")
+file(WRITE ${WORK_DIR}/bad.json "${bad}")
+execute_process(COMMAND ${SYMBA} replay ${WORK_DIR}/sim/log.jsonl
+    --out ${WORK_DIR}/bad --map-in ${WORK_DIR}/bad.json --quiet
+  RESULT_VARIABLE rc ERROR_VARIABLE stderr)
+if(NOT rc EQUAL 1)
+  message(FATAL_ERROR "a bad map must exit 1, got ${rc}")
+endif()
+string(FIND "${stderr}" "${WORK_DIR}/bad.json: format: expected \"symba-map\"" at)
+if(at EQUAL -1)
+  message(FATAL_ERROR "the message must name the file and member: ${stderr}")
+endif()
+if(EXISTS ${WORK_DIR}/bad)
+  message(FATAL_ERROR "a refused map must leave no replay output")
+endif()

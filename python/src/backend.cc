@@ -16,6 +16,8 @@
 #include "keyframe_arrays.h"
 #include "repr.h"
 #include "symba/backend/backend.h"
+#include "symba/io/file_output.h"
+#include "symba/io/map_file.h"
 
 namespace symba::python {
 
@@ -306,6 +308,40 @@ void BindBackend(py::module_& m) {
           "angle_variances [rad^2 or None], source 'solve' or 'prior'}; "
           "objects without one are left out. Raises symba.Error if the last "
           "solve's problem is rank deficient.")
+      .def(
+          "save_map",
+          [](Backend& backend, const std::optional<std::string>& path) {
+            SavedMap map;
+            ThrowIfError(backend.SaveMap(&map));
+            std::string text = FormatMapFile(map);
+            if (path) ThrowIfError(WriteFileAtomically(*path, text));
+            return text;
+          },
+          py::arg("path") = py::none(),
+          "The map as it stands as a map file's text (docs/map-format.md: "
+          "the confirmed objects with their covariances, each class's "
+          "noise), also written to `path` (atomically) if given.")
+      .def(
+          "load_map",
+          [](Backend& backend,
+             const std::optional<std::string>& path,
+             const std::optional<std::string>& text) {
+            if (path.has_value() == text.has_value()) {
+              ThrowValueError("load_map", "give exactly one of path and text");
+            }
+            SavedMap map;
+            ThrowIfError(path ? ReadMapFile(*path, &map)
+                              : ParseMapFile(*text, "<text>", &map));
+            ThrowIfError(backend.LoadMap(map));
+          },
+          py::arg("path") = py::none(),
+          py::kw_only(),
+          py::arg("text") = py::none(),
+          "Starts the run from a map file (its path, or text=its text), "
+          "before the first keyframe: the objects keep their ids and "
+          "covariances (as priors), the classes their noise; keyframes "
+          "are then in the map's frame. Raises symba.Error on a malformed "
+          "map (naming the file and member) or after a keyframe.")
       .def("assignments",
            &Backend::Assignments,
            "Every detection's assignment, in input order.")

@@ -15,8 +15,10 @@
 #include "symba/import/bop_import.h"
 #include "symba/import/class_prior_spec.h"
 #include "symba/import/tum_import.h"
+#include "symba/io/file_output.h"
 #include "symba/io/log_file.h"
 #include "symba/io/log_format.h"
+#include "symba/io/map_file.h"
 #include "symba/replay/replay.h"
 #include "symba/simulation/simulator.h"
 
@@ -308,9 +310,16 @@ void BindReplay(py::module_& m) {
       [](const std::string& log_path,
          const std::optional<BackendOptions>& options,
          const std::string& mode,
-         bool final_batch) {
+         bool final_batch,
+         const std::optional<std::string>& map_in,
+         const std::optional<std::string>& map_out) {
         ReplayOptions replay_options;
         replay_options.final_batch = final_batch;
+        if (map_in) {
+          replay_options.map_in.emplace();
+          ThrowIfError(ReadMapFile(*map_in, &*replay_options.map_in));
+        }
+        replay_options.save_map = map_out.has_value();
         if (!ParseReplayMode(mode, &replay_options.mode)) {
           ThrowValueError("mode",
                           "unknown value \"" + mode +
@@ -324,6 +333,10 @@ void BindReplay(py::module_& m) {
           status = ReplayLog(log_path, replay_options, &result);
         }
         ThrowIfError(status);
+        if (map_out) {
+          ThrowIfError(
+              WriteFileAtomically(*map_out, FormatMapFile(*result.map)));
+        }
         return PyReplayResult{std::move(result.header),
                               MakeTrajectory(result.keyframes),
                               std::move(result.objects),
@@ -336,10 +349,14 @@ void BindReplay(py::module_& m) {
       py::arg("options") = py::none(),
       py::arg("mode") = "window",
       py::arg("final_batch") = false,
+      py::arg("map_in") = py::none(),
+      py::arg("map_out") = py::none(),
       "Replays a log v1 as `symba replay` does (mode \"window\": optimise "
       "the window after every keyframe; \"batch\": one solve at the end; "
       "final_batch: in window mode, one batch solve after the last keyframe "
-      "as well, like `symba replay --final-batch`).");
+      "as well, like `symba replay --final-batch`; map_in, map_out: start "
+      "from a map file, write the map at the end, like --map-in and "
+      "--map-out).");
 }
 
 void BindImport(py::module_& m) {

@@ -3,6 +3,7 @@
 import json
 
 import numpy as np
+import pytest
 
 import symba
 
@@ -200,3 +201,57 @@ def test_import_bop_matches_the_cli(source_dir, cli, tmp_path):
     symba.write_log(str(tmp_path / "again.jsonl"), header, keyframes)
     assert ((tmp_path / "again.jsonl").read_bytes() ==
             (tmp_path / "cli.jsonl").read_bytes())
+
+
+def test_maps_save_load_and_match_the_cli(simulated_log, cli, tmp_path):
+    """Backend.save_map gives the text `symba replay --map-out` writes (up to
+    the covariances' round-off); a backend loaded from it holds the same
+    objects; replay(map_in=, map_out=) is --map-in/--map-out; a malformed
+    map raises symba.Error naming the file and member."""
+    header, keyframes = symba.read_log(str(simulated_log))
+    backend = symba.Backend(intrinsics=header.camera,
+                            class_priors=header.classes)
+    for keyframe in keyframes:
+        backend.add_keyframe(keyframe)
+        backend.optimize_window()
+    path = tmp_path / "map.json"
+    text = backend.save_map(str(path))
+    assert path.read_text() == text
+    cli("replay", simulated_log, "--out", tmp_path / "out", "--quiet",
+        "--map-out", tmp_path / "cli_map.json")
+    ours, theirs = json.loads(text), json.loads(
+        (tmp_path / "cli_map.json").read_text())
+    assert ours["format"] == "symba-map" and ours["version"] == 1
+    assert [o["id"] for o in ours["objects"]] == [
+        o["id"] for o in theirs["objects"]]
+    for a, b in zip(ours["objects"], theirs["objects"]):
+        assert a["t"] == b["t"]
+        np.testing.assert_allclose(a["position_covariance"],
+                                   b["position_covariance"], rtol=1e-5)
+
+    loaded = symba.Backend(intrinsics=header.camera,
+                           class_priors=header.classes)
+    loaded.load_map(str(path))
+    assert [(o.id, o.class_name) for o in loaded.objects()] == [
+        (o.id, o.class_name) for o in backend.objects()]
+    for a, b in zip(loaded.objects(), backend.objects()):
+        np.testing.assert_array_equal(a.t_wo, b.t_wo)
+    also = symba.Backend(intrinsics=header.camera)
+    also.load_map(text=text)
+    assert len(also.objects()) == len(backend.objects())
+    with pytest.raises(symba.Error, match="before the first keyframe"):
+        loaded.add_keyframe(keyframes[0])
+        loaded.load_map(str(path))
+
+    result = symba.replay(str(simulated_log), map_in=str(path),
+                          map_out=str(tmp_path / "again.json"))
+    assert {o.id for o in result.objects} >= {
+        o.id for o in backend.objects()}
+    assert json.loads((tmp_path / "again.json").read_text())["objects"]
+
+    bad = tmp_path / "bad.json"
+    bad.write_text(text.replace('"symba-map"', '"symba-log"'))
+    with pytest.raises(symba.Error, match=r"bad\.json: format: expected"):
+        symba.Backend().load_map(str(bad))
+    with pytest.raises(ValueError, match="exactly one of path and text"):
+        symba.Backend().load_map()

@@ -89,6 +89,7 @@ class Backend::Impl {
   internal::ObjectMap map_;
   internal::FactorGraph graph_;
   internal::ObjectEdges edges_;
+  bool map_loaded_ = false;  // LoadMap succeeded (once per backend)
   // One categorization per detection of the keyframe being added, reused
   // between keyframes.
   std::vector<CategorizedDetection> categorized_;

@@ -47,6 +47,7 @@ int FactorGraph::Add(FactorRecord record) {
   // A rebuilt edge of a keyframe that left the window serves the batch
   // solve only.
   record.marginalized = options_.window_policy != WindowPolicy::kCondition &&
+                        record.keyframe >= 0 &&
                         record.keyframe < marginalized_until_;
   const int f = problem_.size();
   // A loaded object's prior belongs to no keyframe.
@@ -80,6 +81,10 @@ std::vector<int> FactorGraph::ConditionedFactors(int first_free) const {
     if (!object_free[o]) continue;
     for (const ObjectObservation& observation : objects_[o]->observations) {
       if (observation.factor >= 0) active.push_back(observation.factor);
+    }
+    // A loaded object's prior (the only object prior under condition).
+    if (objects_[o]->prior_factor >= 0) {
+      active.push_back(objects_[o]->prior_factor);
     }
   }
   for (size_t p = 0; p < points_.size(); ++p) {

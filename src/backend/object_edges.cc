@@ -111,7 +111,9 @@ bool ObjectEdges::ApplyNoise(const std::string& class_name,
       !Moved(estimate.sigma_r, applied.sigma_r, ratio)) {
     return false;
   }
-  applied = estimate;
+  // A sigma the estimate does not have (yet) stays as it was applied.
+  if (estimate.sigma_t) applied.sigma_t = estimate.sigma_t;
+  if (estimate.sigma_r) applied.sigma_r = estimate.sigma_r;
   return true;
 }
 

@@ -9,9 +9,6 @@
 namespace symba {
 namespace {
 
-// Loaded objects take the index of their id, so ids are bounded.
-constexpr int kMaxLoadedObjectId = 1 << 20;
-
 bool Finite(const Eigen::Vector3d& v) { return v.allFinite(); }
 
 bool Unit(const Eigen::Vector3d& v) {
@@ -48,9 +45,9 @@ Status ValidateCovariance(const MapObjectEstimate& o) {
 }
 
 Status ValidateObject(const MapObjectEstimate& o) {
-  if (o.id < 0 || o.id >= kMaxLoadedObjectId) {
+  if (o.id < 0 || o.id >= kMaxMapObjectId) {
     return ObjectError(
-        o, "id must be in [0, " + std::to_string(kMaxLoadedObjectId) + ")");
+        o, "id must be in [0, " + std::to_string(kMaxMapObjectId) + ")");
   }
   if (o.class_name.empty()) return ObjectError(o, "empty class name");
   if (!Finite(o.t_wo)) return ObjectError(o, "position is not finite");
@@ -68,6 +65,9 @@ Status ValidateObject(const MapObjectEstimate& o) {
         !Finite(pose.t)) {
       return ObjectError(o, "pose is not finite or not a unit quaternion");
     }
+  }
+  if (o.symmetry != SymmetryType::kDiscrete && !o.angles.empty()) {
+    return ObjectError(o, "only a discrete object has angles");
   }
   for (double angle : o.angles) {
     if (!std::isfinite(angle)) return ObjectError(o, "angle is not finite");
@@ -123,8 +123,7 @@ Status Backend::Impl::SaveMap(SavedMap* map) {
 }
 
 Status Backend::Impl::LoadMap(const SavedMap& map) {
-  if (!trajectory_.keyframes().empty() || !map_.objects().empty() ||
-      !edges_.applied_noise().empty()) {
+  if (!trajectory_.keyframes().empty() || map_loaded_) {
     return Status::Error(
         "a map is loaded before the first keyframe, into an empty backend");
   }
@@ -139,6 +138,7 @@ Status Backend::Impl::LoadMap(const SavedMap& map) {
   for (const SavedClassNoise& n : map.noise) {
     edges_.ApplyNoise(n.class_name, internal::ClassNoise{n.sigma_t, n.sigma_r});
   }
+  map_loaded_ = true;
   return Status::Ok();
 }
 

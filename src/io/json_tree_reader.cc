@@ -245,7 +245,8 @@ Status JsonTreeReader::UnitVector(Index i,
   if (!(std::abs(norm - 1.0) <= kUnitTolerance)) {
     return Fail(path, "norm " + Approx(norm) + " is not within 1e-3 of 1");
   }
-  *v /= norm;
+  // As for quaternions: one that is unit already is kept as it is.
+  if (std::abs(v->squaredNorm() - 1.0) > kExactlyUnit) *v /= norm;
   return Status::Ok();
 }
 

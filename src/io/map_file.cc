@@ -58,8 +58,10 @@ Status Objects(const JsonTreeReader& r,
     const JsonPath where = path.Element(i);
     MapObjectEstimate o;
     status = io_internal::ReadObjectRecord(r, e, where, &o);
-    if (status.ok() && o.id < 0) {
-      status = r.Fail(where.Member("id"), "expected an id >= 0");
+    if (status.ok() && (o.id < 0 || o.id >= kMaxMapObjectId)) {
+      status = r.Fail(
+          where.Member("id"),
+          "expected an id in [0, " + std::to_string(kMaxMapObjectId) + ")");
     }
     if (status.ok() && !ids.insert(o.id).second) {
       status =

@@ -14,7 +14,13 @@ namespace io_internal {
 namespace {
 
 void Pose(const Rigid3d& T, JsonWriter* json) {
-  const Eigen::Quaterniond q = T.q.normalized();
+  // Normalised only if it is not unit already (to the reader's 8 eps):
+  // normalising again may change the last bit, and a map read and written
+  // again must keep its bytes.
+  Eigen::Quaterniond q = T.q;
+  if (std::abs(q.squaredNorm() - 1.0) > 8.0 * 2.220446049250313e-16) {
+    q.normalize();
+  }
   const double coeffs[4] = {q.x(), q.y(), q.z(), q.w()};
   json->BeginObject();
   json->Key("t").Doubles(T.t.data(), 3);
@@ -269,9 +275,11 @@ Status ReadUpgrade(const JsonTreeReader& r,
   }
   MapObjectEstimate::Upgrade u;
   JsonTree::Index member = 0;
-  int keyframe = 0;
+  int64_t keyframe = 0;
   status = r.Require(upgrade, path, "keyframe", "", &member);
-  if (status.ok()) status = r.Int(member, path.Member("keyframe"), &keyframe);
+  if (status.ok()) {
+    status = r.Integer(member, path.Member("keyframe"), &keyframe);
+  }
   if (status.ok()) status = r.Require(upgrade, path, "evidence", "", &member);
   if (status.ok()) status = r.Int(member, path.Member("evidence"), &u.evidence);
   if (status.ok()) status = r.Require(upgrade, path, "order", "", &member);
@@ -304,6 +312,12 @@ Status ReadObjectRecord(const JsonTreeReader& r,
   if (status.ok()) status = r.Require(e, where, "observations", "", &member);
   if (status.ok()) {
     status = r.Int(member, where.Member("observations"), &o.observations);
+  }
+  if (status.ok() && o.observations < 0) {
+    status = r.Fail(where.Member("observations"), "expected a count >= 0");
+  }
+  if (status.ok() && o.class_name.empty()) {
+    status = r.Fail(where.Member("class"), "expected a class name");
   }
   if (status.ok() && o.symmetry != SymmetryType::kAsymmetric) {
     status = r.Require(e, where, "axis", "", &member);

@@ -64,7 +64,7 @@ Status ReplayLog(const std::string& log_path,
   if (!status.ok()) return Status::Error("options: " + status.message());
   if (options.map_in) {
     status = backend->LoadMap(*options.map_in);
-    if (!status.ok()) return status;
+    if (!status.ok()) return Status::Error("map: " + status.message());
   }
 
   ReplayResult replay;

@@ -198,6 +198,46 @@ TEST(BackendSavedMap, LoadedObjectsKeepIdsPosesAndCovariances) {
   EXPECT_EQ(saved.noise[0].sigma_r, 0.2);
 }
 
+// A chair loaded with a tight covariance, then seen 10 cm away from there
+// by a detector of 5 cm from a camera that cannot move: under every window
+// policy the loaded prior holds the chair where the map had it.
+TEST(BackendSavedMap, TheLoadedPriorCountsInWindowSolves) {
+  for (WindowPolicy policy : {WindowPolicy::kMarginalize,
+                              WindowPolicy::kCondition,
+                              WindowPolicy::kDrop}) {
+    BackendOptions options;
+    options.window_policy = policy;
+    options.window_size = 3;
+    std::unique_ptr<Backend> backend;
+    ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
+    SavedMap map;
+    map.objects = {SavedChair(0)};
+    map.objects[0].covariance->position = Eigen::Matrix3d::Identity() * 1e-6;
+    ASSERT_TRUE(backend->LoadMap(map).ok());
+    const Rigid3d T_wo = map.objects[0].poses[0];
+    for (int k = 0; k < 8; ++k) {
+      KeyframeInput keyframe;
+      keyframe.id = k;
+      keyframe.T_wc = Rigid3d();
+      if (k > 0) keyframe.odometry = Odometry{Rigid3d(), 1e-4, 1e-4};
+      DetectionInput detection;
+      detection.class_name = "chair";
+      detection.sigma_t = 0.05;
+      detection.sigma_r = 0.1;
+      Rigid3d T_co = T_wo;
+      T_co.t += Eigen::Vector3d(0.1, 0.0, 0.0);
+      detection.hypotheses = {PoseHypothesis{T_co, 1.0}};
+      keyframe.detections = {detection};
+      ASSERT_TRUE(backend->AddKeyframe(keyframe).ok());
+      ASSERT_TRUE(backend->OptimizeWindow().ok());
+    }
+    const std::optional<MapObjectEstimate> chair = backend->Object(0);
+    ASSERT_TRUE(chair.has_value()) << WindowPolicyName(policy);
+    EXPECT_LT((chair->t_wo - T_wo.t).norm(), 0.01) << WindowPolicyName(policy);
+    EXPECT_EQ(backend->Objects().size(), 1u) << WindowPolicyName(policy);
+  }
+}
+
 TEST(BackendSavedMap, BadMapsAndLateLoadsChangeNothing) {
   std::unique_ptr<Backend> backend;
   ASSERT_TRUE(
@@ -218,7 +258,17 @@ TEST(BackendSavedMap, BadMapsAndLateLoadsChangeNothing) {
   SavedMap bad_noise;
   bad_noise.noise = {{"chair", -1.0, std::nullopt}};
   EXPECT_FALSE(backend->LoadMap(bad_noise).ok());
+  SavedMap angles;
+  angles.objects = {SavedChair(0)};
+  angles.objects[0].angles = {0.5};
+  status = backend->LoadMap(angles);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("only a discrete object has angles"),
+            std::string::npos);
   EXPECT_TRUE(backend->Objects().empty());
+  // Once loaded (an empty map too), never again.
+  ASSERT_TRUE(backend->LoadMap(SavedMap()).ok());
+  EXPECT_FALSE(backend->LoadMap(SavedMap()).ok());
 
   KeyframeInput keyframe;
   keyframe.id = 0;

@@ -5,6 +5,8 @@
 #include "symba/io/map_file.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -96,6 +98,32 @@ TEST(MapFile, RoundTripKeepsEveryValueAndTheBytes) {
   EXPECT_EQ(FormatMapFile(third), text);
 }
 
+// Normalising a unit quaternion or axis again may change its last bit; the
+// writer and the reader keep one that is unit already, so maps of random
+// rotations keep their bytes too, and keyframe ids beyond 32 bits survive.
+TEST(MapFile, RandomRotationsAndLargeIdsKeepTheirBytes) {
+  std::srand(3);
+  auto uniform = [] { return 2.0 * std::rand() / RAND_MAX - 1.0; };
+  SavedMap map;
+  for (int i = 0; i < 200; ++i) {
+    MapObjectEstimate o = Table();
+    o.id = i;
+    o.axis_w = Eigen::Vector3d(uniform(), uniform(), uniform()).normalized();
+    for (Rigid3d& pose : o.poses) {
+      pose.q = Eigen::Quaterniond(uniform(), uniform(), uniform(), uniform())
+                   .normalized();
+    }
+    o.upgrade->keyframe = (int64_t{1} << 40) + i;
+    map.objects.push_back(o);
+  }
+  const std::string text = FormatMapFile(map);
+  SavedMap read;
+  const Status status = ParseMapFile(text, "map.json", &read);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(read.objects[7].upgrade->keyframe, (int64_t{1} << 40) + 7);
+  EXPECT_EQ(FormatMapFile(read), text);
+}
+
 TEST(MapFile, EmptyMapIsValid) {
   SavedMap read;
   read.noise = {{"x", 1.0, 1.0}};
@@ -144,7 +172,16 @@ TEST(MapFile, MalformedFilesAreRefusedWithWhereAndWhy) {
        "objects[1].id: duplicate id 0"},
       {"negative id",
        Edited("\"id\": 4", "\"id\": -4"),
-       "objects[1].id: expected an id >= 0"},
+       "objects[1].id: expected an id in [0, 100000)"},
+      {"huge id",
+       Edited("\"id\": 4", "\"id\": 100000"),
+       "objects[1].id: expected an id in [0, 100000)"},
+      {"negative observations",
+       Edited("\"observations\": 41", "\"observations\": -1"),
+       "objects[0].observations: expected a count >= 0"},
+      {"empty class",
+       Edited("\"class\": \"chair\"", "\"class\": \"\""),
+       "objects[0].class: expected a class name"},
       {"symmetry", Edited("\"discrete\"", "\"round\""), "objects[1].symmetry"},
       {"axis missing",
        Edited("\"axis\"", "\"axes\""),

@@ -127,7 +127,7 @@ class Backend {
   // covariance as a prior, and its classes' noise weighs their detections
   // until the run's own estimate moves away from it. Keyframes must then
   // be given in the map's frame. Fails, changing nothing, after a keyframe
-  // or an earlier LoadMap, or on an invalid map (ids, numbers, poses).
+  // or a successful LoadMap, or on an invalid map (ids, numbers, poses).
   Status LoadMap(const SavedMap& map);
   const BackendOptions& options() const;
 

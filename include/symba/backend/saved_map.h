@@ -20,6 +20,10 @@ struct SavedClassNoise {
   std::optional<double> sigma_r;  // rad
 };
 
+// Map object ids are below this (Backend::LoadMap gives a loaded object
+// the index of its id, so they must stay dense enough to hold in memory).
+inline constexpr int kMaxMapObjectId = 100000;
+
 struct SavedMap {
   // The confirmed map objects, each with its covariance where it had one:
   // a loaded object keeps what it knew as a prior of that covariance.

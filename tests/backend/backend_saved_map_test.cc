@@ -59,8 +59,6 @@ TEST(BackendSavedMap, SecondHalfFromTheFirstHalfsMapReusesEveryObject) {
   std::vector<KeyframeInput> second(sequence.keyframes.begin() + half,
                                     sequence.keyframes.end());
 
-  std::unique_ptr<Backend> whole = NewSavedMapBackend(sequence);
-  ASSERT_NO_FATAL_FAILURE(RunKeyframes(sequence.keyframes, whole.get()));
   std::unique_ptr<Backend> before = NewSavedMapBackend(sequence);
   ASSERT_NO_FATAL_FAILURE(RunKeyframes(first, before.get()));
   SavedMap map;
@@ -91,6 +89,13 @@ TEST(BackendSavedMap, SecondHalfFromTheFirstHalfsMapReusesEveryObject) {
   for (const DetectionAssignment& a : after->Assignments()) {
     EXPECT_EQ(loaded.count(a.object), 1u) << a.detection;
   }
+#ifdef SYMBA_SANITIZED
+  // The whole run adds no code path and takes half a minute under ASan +
+  // UBSan; the optimised build compares with it.
+  GTEST_SKIP() << "the comparison with the whole run is the optimised build's";
+#endif
+  std::unique_ptr<Backend> whole = NewSavedMapBackend(sequence);
+  ASSERT_NO_FATAL_FAILURE(RunKeyframes(sequence.keyframes, whole.get()));
   const double from_map = SecondHalfRmse(sequence, after->Keyframes(), half);
   const double at_once = SecondHalfRmse(sequence, whole->Keyframes(), half);
   EXPECT_LT(from_map, 1.2 * at_once) << from_map << " vs " << at_once;

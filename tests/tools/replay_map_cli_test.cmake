@@ -1,6 +1,7 @@
 cmake_minimum_required(VERSION 3.16)
 # symba replay --map-out / --map-in (docs/map-format.md): a simulated room
-# replayed with --map-out writes a map file with its five objects; the same
+# (36 keyframes) replayed with --map-out writes a map file with its five
+# objects; the same
 # log replayed from that map with --map-in (its poses are in the map's frame
 # up to the front end's drift) writes a complete replay; a map file that is
 # not one is refused with its name, the member and exit 1, and no output.
@@ -8,7 +9,7 @@ cmake_minimum_required(VERSION 3.16)
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
 execute_process(COMMAND ${SYMBA} simulate --scene room --seed 3
-    --out ${WORK_DIR}/sim
+    --keyframes 36 --out ${WORK_DIR}/sim
   RESULT_VARIABLE rc ERROR_VARIABLE stderr)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "simulate failed (${rc}): ${stderr}")

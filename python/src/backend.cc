@@ -185,6 +185,43 @@ void BindEstimates(py::module_& m) {
                               "prior_size"});
       });
 
+  using R = RelocalizationReport;
+  py::class_<R>(m,
+                "RelocalizationReport",
+                "Where relocalisation against a loaded map stands "
+                "(docs/relocalization.md).")
+      .def_property_readonly(
+          "state",
+          [](const R& r) { return std::string(ToString(r.state)); },
+          "'searching', 'relocalized' or 'gave up'.")
+      .def_readonly("keyframes", &R::keyframes)
+      .def_readonly("attempts", &R::attempts)
+      .def_readonly("last_outcome", &R::last_outcome)
+      .def_readonly("keyframe",
+                    &R::keyframe,
+                    "The keyframe whose solve matched, or None.")
+      .def_property_readonly(
+          "T_map_run",
+          [](const R& r) { return PoseToPython(r.T_map_run); },
+          "The run's own frame in the map's: [tx, ty, tz, qx, qy, qz, qw].")
+      .def_property_readonly(
+          "correspondences",
+          [](const R& r) {
+            py::list out;
+            for (const ObjectCorrespondence& c : r.correspondences) {
+              out.append(py::make_tuple(c.local, c.map));
+            }
+            return out;
+          },
+          "(the search's object id, the map object's id) per match.")
+      .def_readonly("position_rmse", &R::position_rmse)
+      .def_readonly("seconds", &R::seconds)
+      .def("__repr__", [](const py::handle& self) {
+        return AttributeRepr(self,
+                             "RelocalizationReport",
+                             {"state", "keyframes", "attempts", "keyframe"});
+      });
+
   using S = BackendStatistics;
   py::class_<S>(m, "BackendStatistics", "Counters over the backend's life.")
       .def_readonly("keyframes", &S::keyframes)
@@ -325,23 +362,34 @@ void BindBackend(py::module_& m) {
           "load_map",
           [](Backend& backend,
              const std::optional<std::string>& path,
-             const std::optional<std::string>& text) {
+             const std::optional<std::string>& text,
+             bool relocalize) {
             if (path.has_value() == text.has_value()) {
               ThrowValueError("load_map", "give exactly one of path and text");
             }
             SavedMap map;
             ThrowIfError(path ? ReadMapFile(*path, &map)
                               : ParseMapFile(*text, "<text>", &map));
-            ThrowIfError(backend.LoadMap(map));
+            std::optional<RelocalizationOptions> options;
+            if (relocalize) options.emplace();
+            ThrowIfError(backend.LoadMap(map, options));
           },
           py::arg("path") = py::none(),
           py::kw_only(),
           py::arg("text") = py::none(),
+          py::arg("relocalize") = false,
           "Starts the run from a map file (its path, or text=its text), "
           "before the first keyframe: the objects keep their ids and "
           "covariances (as priors), the classes their noise; keyframes "
-          "are then in the map's frame. Raises symba.Error on a malformed "
-          "map (naming the file and member) or after a keyframe.")
+          "are then in the map's frame, or, with relocalize=True, in a "
+          "frame of their own that the backend finds from the objects "
+          "(relocalization(); docs/relocalization.md). Raises symba.Error "
+          "on a malformed map (naming the file and member) or after a "
+          "keyframe.")
+      .def("relocalization",
+           &Backend::Relocalization,
+           "A RelocalizationReport, or None without load_map(relocalize="
+           "True).")
       .def("assignments",
            &Backend::Assignments,
            "Every detection's assignment, in input order.")

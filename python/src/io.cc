@@ -57,6 +57,7 @@ struct PyReplayResult {
   BackendStatistics statistics;
   SolveReport last_solve;
   double seconds = 0.0;
+  std::optional<RelocalizationReport> relocalization;
 };
 
 // Binds `f(lead..., const TumImportOptions&)` as the Python function that
@@ -290,6 +291,9 @@ void BindReplay(py::module_& m) {
       .def_readonly("statistics", &PyReplayResult::statistics)
       .def_readonly("last_solve", &PyReplayResult::last_solve)
       .def_readonly("seconds", &PyReplayResult::seconds)
+      .def_readonly("relocalization",
+                    &PyReplayResult::relocalization,
+                    "A RelocalizationReport with relocalize=True, else None.")
       .def("__repr__", [](const PyReplayResult& r) {
         return "ReplayResult(" +
                symba::CountPhrase(
@@ -312,9 +316,14 @@ void BindReplay(py::module_& m) {
          const std::string& mode,
          bool final_batch,
          const std::optional<std::string>& map_in,
-         const std::optional<std::string>& map_out) {
+         const std::optional<std::string>& map_out,
+         bool relocalize) {
         ReplayOptions replay_options;
         replay_options.final_batch = final_batch;
+        if (relocalize) {
+          if (!map_in) ThrowValueError("relocalize", "needs map_in");
+          replay_options.relocalize.emplace();
+        }
         if (map_in) {
           replay_options.map_in.emplace();
           ThrowIfError(ReadMapFile(*map_in, &*replay_options.map_in));
@@ -343,7 +352,8 @@ void BindReplay(py::module_& m) {
                               std::move(result.assignments),
                               result.statistics,
                               result.last_solve,
-                              result.seconds};
+                              result.seconds,
+                              result.relocalization};
       },
       py::arg("log_path"),
       py::arg("options") = py::none(),
@@ -351,12 +361,14 @@ void BindReplay(py::module_& m) {
       py::arg("final_batch") = false,
       py::arg("map_in") = py::none(),
       py::arg("map_out") = py::none(),
+      py::arg("relocalize") = false,
       "Replays a log v1 as `symba replay` does (mode \"window\": optimise "
       "the window after every keyframe; \"batch\": one solve at the end; "
       "final_batch: in window mode, one batch solve after the last keyframe "
       "as well, like `symba replay --final-batch`; map_in, map_out: start "
       "from a map file, write the map at the end, like --map-in and "
-      "--map-out).");
+      "--map-out; relocalize: the log is not in the map's frame, like "
+      "--relocalize).");
 }
 
 void BindImport(py::module_& m) {

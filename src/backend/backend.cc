@@ -14,6 +14,7 @@
 #include "backend/detection_observations.h"
 #include "backend/keyframe_validation.h"
 #include "backend/object_covariances.h"
+#include "backend/relocalizer.h"
 #include "symba/common/check.h"
 
 namespace symba {
@@ -26,6 +27,8 @@ Backend::Impl::Impl(const BackendOptions& options,
                     const std::optional<PinholeIntrinsics>& intrinsics,
                     const std::map<std::string, ClassPrior>& class_priors)
     : options_(options),
+      intrinsics_(intrinsics),
+      class_priors_(class_priors),
       trajectory_(options_, intrinsics, &graph_, &statistics_),
       map_(options_, class_priors, &graph_, &statistics_, &assignments_),
       graph_(options_,
@@ -288,21 +291,71 @@ Status Backend::Create(const BackendOptions& options,
 Backend::Backend(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Backend::~Backend() = default;
 
+bool Backend::Searching() const {
+  return relocalizer_ != nullptr && relocalizer_->searching();
+}
+
+const Backend::Impl& Backend::Run() const {
+  return Searching() ? *relocalizer_->search().impl_ : *impl_;
+}
+
+Backend::Impl& Backend::Run() {
+  return Searching() ? *relocalizer_->search().impl_ : *impl_;
+}
+
 Status Backend::AddKeyframe(const KeyframeInput& keyframe,
                             std::vector<DetectionAssignment>* assignments) {
+  if (Searching()) return relocalizer_->Add(keyframe, assignments);
   return impl_->AddKeyframe(keyframe, assignments);
 }
 
 Status Backend::OptimizeWindow(SolveReport* report) {
-  return impl_->OptimizeWindow(report);
+  if (!Searching()) return impl_->OptimizeWindow(report);
+  Status status = relocalizer_->search().OptimizeWindow(report);
+  if (!status.ok()) return status;
+  const auto start = std::chrono::steady_clock::now();
+  const bool matched = relocalizer_->TryMatch();
+  relocalizer_->AddSeconds(
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count());
+  if (matched) return FinishRelocalization(report);
+  if (relocalizer_->Exhausted()) {
+    // The run goes on in its own frame: the search's state becomes this
+    // backend's, the loaded map is let go.
+    std::unique_ptr<Backend> search = relocalizer_->GiveUp();
+    std::swap(impl_, search->impl_);
+  }
+  return Status::Ok();
+}
+
+// The search's keyframes, in the map's frame, are estimated again by this
+// backend (each added and solved as it was first), associating their
+// detections with the loaded objects.
+Status Backend::FinishRelocalization(SolveReport* report) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<KeyframeInput> keyframes =
+      relocalizer_->TakeKeyframesInMapFrame();
+  for (const KeyframeInput& keyframe : keyframes) {
+    Status status = impl_->AddKeyframe(keyframe, nullptr);
+    if (status.ok()) status = impl_->OptimizeWindow(report);
+    if (!status.ok()) {
+      return Status::Error("relocalisation, keyframe " +
+                           std::to_string(keyframe.id) + ": " +
+                           status.message());
+    }
+  }
+  relocalizer_->AddSeconds(
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count());
+  return Status::Ok();
 }
 
 Status Backend::OptimizeBatch(SolveReport* report) {
-  return impl_->OptimizeBatch(report);
+  return Run().OptimizeBatch(report);
 }
 
 std::optional<KeyframeEstimate> Backend::Keyframe(KeyframeId id) const {
-  return impl_->Keyframe(id);
+  return Run().Keyframe(id);
 }
 
 std::optional<MapObjectEstimate> Backend::Object(ObjectId id) const {
@@ -310,7 +363,7 @@ std::optional<MapObjectEstimate> Backend::Object(ObjectId id) const {
 }
 
 std::vector<KeyframeEstimate> Backend::Keyframes() const {
-  return impl_->Keyframes();
+  return Run().Keyframes();
 }
 
 std::vector<MapObjectEstimate> Backend::Objects() const {
@@ -321,11 +374,9 @@ const std::vector<DetectionAssignment>& Backend::Assignments() const {
   return impl_->assignments_;
 }
 
-BackendStatistics Backend::Statistics() const { return impl_->statistics_; }
+BackendStatistics Backend::Statistics() const { return Run().statistics_; }
 
-std::vector<ClassNoiseEstimate> Backend::Noise() const {
-  return impl_->Noise();
-}
+std::vector<ClassNoiseEstimate> Backend::Noise() const { return Run().Noise(); }
 
 Status Backend::ObjectCovariances(
     std::vector<MapObjectCovariance>* covariances) {
@@ -334,7 +385,31 @@ Status Backend::ObjectCovariances(
 
 Status Backend::SaveMap(SavedMap* map) { return impl_->SaveMap(map); }
 
-Status Backend::LoadMap(const SavedMap& map) { return impl_->LoadMap(map); }
+Status Backend::LoadMap(
+    const SavedMap& map,
+    const std::optional<RelocalizationOptions>& relocalize) {
+  if (relocalize) {
+    if (relocalize->max_keyframes < 1 || relocalize->match.min_support < 1) {
+      return Status::Error(
+          "relocalisation: max_keyframes and match.min_support must be at "
+          "least 1");
+    }
+  }
+  Status status = impl_->LoadMap(map);
+  if (!status.ok() || !relocalize) return status;
+  std::unique_ptr<Backend> search;
+  status = Create(
+      impl_->options_, impl_->intrinsics_, impl_->class_priors_, &search);
+  if (!status.ok()) return status;  // cannot fail: these created impl_
+  relocalizer_ = std::make_unique<internal::Relocalizer>(
+      std::move(search), map.objects, *relocalize);
+  return Status::Ok();
+}
+
+std::optional<RelocalizationReport> Backend::Relocalization() const {
+  if (relocalizer_ == nullptr) return std::nullopt;
+  return relocalizer_->report();
+}
 
 const BackendOptions& Backend::options() const { return impl_->options_; }
 

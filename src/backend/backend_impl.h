@@ -51,6 +51,9 @@ class Backend::Impl {
   Status LoadMap(const SavedMap& map);
 
   const BackendOptions options_;
+  // As created (a relocalisation's search is created alike).
+  const std::optional<PinholeIntrinsics> intrinsics_;
+  const std::map<std::string, ClassPrior> class_priors_;
   std::vector<DetectionAssignment> assignments_;
   BackendStatistics statistics_;
 

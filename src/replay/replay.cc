@@ -62,8 +62,11 @@ Status ReplayLog(const std::string& log_path,
                            reader->header().classes,
                            &backend);
   if (!status.ok()) return Status::Error("options: " + status.message());
+  if (options.relocalize && !options.map_in) {
+    return Status::Error("options: relocalisation needs a map to start from");
+  }
   if (options.map_in) {
-    status = backend->LoadMap(*options.map_in);
+    status = backend->LoadMap(*options.map_in, options.relocalize);
     if (!status.ok()) return Status::Error("map: " + status.message());
   }
 
@@ -103,6 +106,7 @@ Status ReplayLog(const std::string& log_path,
     if (in_map.count(a.object) == 0) a.object = -1;
   }
   replay.statistics = backend->Statistics();
+  replay.relocalization = backend->Relocalization();
   replay.noise = backend->Noise();
   if (options.save_map) {
     replay.map.emplace();

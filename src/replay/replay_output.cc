@@ -113,6 +113,38 @@ void WriteOptions(const BackendOptions& options, JsonWriter* json) {
       .EndObject();
 }
 
+// "relocalization": where the search stands and, once relocalised, the
+// keyframe, the log's frame in the map's and the matched objects
+// (docs/relocalization.md).
+void WriteRelocalization(const RelocalizationReport& r, JsonWriter* json) {
+  json->Key("relocalization")
+      .BeginObject()
+      .Member("state", ToString(r.state))
+      .Member("keyframes", r.keyframes)
+      .Member("attempts", r.attempts)
+      .Member("last_outcome", r.last_outcome)
+      .Member("seconds", r.seconds);
+  if (r.keyframe) {
+    const Eigen::Quaterniond& q = r.T_map_run.q;
+    const double coeffs[4] = {q.x(), q.y(), q.z(), q.w()};
+    json->Member("keyframe", *r.keyframe);
+    json->Key("T_map_log").BeginObject();
+    json->Key("t").Doubles(r.T_map_run.t.data(), 3);
+    json->Key("q").Doubles(coeffs, 4);
+    json->EndObject();
+    json->Member("position_rmse", r.position_rmse);
+    json->Key("matched").BeginArray();
+    for (const ObjectCorrespondence& c : r.correspondences) {
+      json->BeginObject()
+          .Member("search_object", c.local)
+          .Member("map_object", c.map)
+          .EndObject();
+    }
+    json->EndArray();
+  }
+  json->EndObject();
+}
+
 }  // namespace
 
 std::string FormatAssociationsCsv(
@@ -194,6 +226,7 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
       .EndObject()
       .EndObject();
   WriteNoise(result.noise, &json);
+  if (result.relocalization) WriteRelocalization(*result.relocalization, &json);
   WriteOptions(b, &json);
   json.EndObject();
   out.push_back('\n');

@@ -34,10 +34,11 @@ struct ReplayFlags {
   std::string log;
   std::string out;
   std::string mode = "window";
-  std::string bop_out;  // --bop-out: the refined poses as BOP results
-  int bop_scene = -1;   // --bop-scene; -1: the log header's
-  std::string map_in;   // --map-in: start from this map file
-  std::string map_out;  // --map-out: write the map at the end here
+  std::string bop_out;      // --bop-out: the refined poses as BOP results
+  int bop_scene = -1;       // --bop-scene; -1: the log header's
+  std::string map_in;       // --map-in: start from this map file
+  std::string map_out;      // --map-out: write the map at the end here
+  bool relocalize = false;  // --relocalize: the log's frame is unknown
   bool quiet = false;
   bool final_batch = false;
   bool g2o_isotropic = false;
@@ -183,6 +184,11 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                   "docs/map-format.md): its objects with their ids and "
                   "covariances, its classes' noise; the log's poses are in "
                   "the map's frame");
+  cmd->add_flag("--relocalize",
+                f->relocalize,
+                "--map-in: the log's poses are not in the map's frame; find "
+                "where the log is from the objects it maps, then go on in "
+                "the map's frame (docs/relocalization.md)");
   cmd->add_option("--map-out",
                   f->map_out,
                   "also write the map at the end as a map file (written "
@@ -296,6 +302,21 @@ void PrintReplaySummary(const ReplayFlags& f,
   if (!f.bop_out.empty())
     std::fprintf(stderr, "; BOP results %s", f.bop_out.c_str());
   if (!f.map_out.empty()) std::fprintf(stderr, "; map %s", f.map_out.c_str());
+  if (result.relocalization) {
+    const symba::RelocalizationReport& r = *result.relocalization;
+    if (r.keyframe) {
+      std::fprintf(stderr,
+                   "; relocalised at keyframe %lld on %zu objects",
+                   static_cast<long long>(*r.keyframe),
+                   r.correspondences.size());
+    } else {
+      std::fprintf(stderr,
+                   "; not relocalised (%s after %d keyframes: %s)",
+                   symba::ToString(r.state),
+                   r.keyframes,
+                   r.last_outcome.c_str());
+    }
+  }
   std::fprintf(stderr, "\n");
 }
 
@@ -314,8 +335,10 @@ int RunReplay(const ReplayFlags& f) {
     if (!f.bop_out.empty()) {
       return Fail("--bop-out: a pose graph (.g2o) has no objects");
     }
-    if (!f.map_in.empty() || !f.map_out.empty()) {
-      return Fail("--map-in, --map-out: a pose graph (.g2o) has no objects");
+    if (!f.map_in.empty() || !f.map_out.empty() || f.relocalize) {
+      return Fail(
+          "--map-in, --map-out, --relocalize: a pose graph (.g2o) has no "
+          "objects");
     }
     return RunPoseGraphReplay(f);
   }
@@ -339,6 +362,12 @@ int RunReplay(const ReplayFlags& f) {
     options.map_in.emplace();
     status = symba::ReadMapFile(f.map_in, &*options.map_in);
     if (!status.ok()) status = symba::Status::Error(status.message());
+  }
+  if (status.ok() && f.relocalize) {
+    if (f.map_in.empty()) {
+      status = symba::Status::Error("--relocalize needs --map-in");
+    }
+    options.relocalize.emplace();
   }
   options.save_map = !f.map_out.empty();
   if (status.ok()) status = symba::ReplayLog(f.log, options, &result);

@@ -101,6 +101,118 @@ TEST(BackendSavedMap, SecondHalfFromTheFirstHalfsMapReusesEveryObject) {
   EXPECT_LT(from_map, 1.2 * at_once) << from_map << " vs " << at_once;
 }
 
+// The second half again, its first pose unknown (given as the identity,
+// the rest by odometry alone): the backend relocalises against the first
+// half's map, then estimates in the map's frame.
+TEST(BackendSavedMap, SecondHalfWithItsFirstPoseUnknownRelocalizes) {
+  SimulatedSequence sequence;
+  ASSERT_TRUE(Simulate("room", SimulationOptions(), 3, &sequence).ok());
+  const size_t half = sequence.keyframes.size() / 2;
+  const std::vector<KeyframeInput> first(sequence.keyframes.begin(),
+                                         sequence.keyframes.begin() + half);
+  std::vector<KeyframeInput> second(sequence.keyframes.begin() + half,
+                                    sequence.keyframes.end());
+  std::unique_ptr<Backend> before = NewSavedMapBackend(sequence);
+  ASSERT_NO_FATAL_FAILURE(RunKeyframes(first, before.get()));
+  SavedMap map;
+  ASSERT_TRUE(before->SaveMap(&map).ok());
+
+  second.front().T_wc = Rigid3d::Identity();
+  second.front().odometry.reset();
+  for (size_t k = 1; k < second.size(); ++k) second[k].T_wc.reset();
+  std::unique_ptr<Backend> after = NewSavedMapBackend(sequence);
+  ASSERT_TRUE(after->LoadMap(map, RelocalizationOptions()).ok());
+  ASSERT_TRUE(after->Relocalization().has_value());
+  EXPECT_EQ(after->Relocalization()->state,
+            RelocalizationReport::State::kSearching);
+  ASSERT_NO_FATAL_FAILURE(RunKeyframes(second, after.get()));
+
+  const RelocalizationReport report = *after->Relocalization();
+  ASSERT_EQ(report.state, RelocalizationReport::State::kRelocalized)
+      << report.last_outcome;
+  EXPECT_GE(report.correspondences.size(), 3u);
+  // The run's own frame is the true first pose of the second half, seen
+  // from the map's frame (the first half's, whose first pose is true).
+  const Rigid3d& truth = sequence.T_wc_true[half];
+  EXPECT_LT((report.T_map_run.t - truth.t).norm(), 0.1);
+  EXPECT_LT(report.T_map_run.q.angularDistance(truth.q), 0.05);
+
+  std::set<ObjectId> loaded;
+  for (const MapObjectEstimate& o : map.objects) loaded.insert(o.id);
+  std::set<ObjectId> now;
+  for (const MapObjectEstimate& o : after->Objects()) now.insert(o.id);
+  EXPECT_EQ(now, loaded);
+  // Every keyframe's detections were associated again, each with a loaded
+  // object.
+  size_t detections = 0;
+  for (const KeyframeInput& k : second) detections += k.detections.size();
+  EXPECT_EQ(after->Assignments().size(), detections);
+  for (const DetectionAssignment& a : after->Assignments()) {
+    EXPECT_EQ(loaded.count(a.object), 1u) << a.detection;
+  }
+  EXPECT_EQ(after->Keyframes().size(), second.size());
+#ifdef SYMBA_SANITIZED
+  GTEST_SKIP() << "the comparison with the whole run is the optimised build's";
+#endif
+  std::unique_ptr<Backend> whole = NewSavedMapBackend(sequence);
+  ASSERT_NO_FATAL_FAILURE(RunKeyframes(sequence.keyframes, whole.get()));
+  // In the map's frame, no alignment.
+  const double from_map = SecondHalfRmse(sequence, after->Keyframes(), half);
+  const double at_once = SecondHalfRmse(sequence, whole->Keyframes(), half);
+  EXPECT_LT(from_map, 1.2 * at_once) << from_map << " vs " << at_once;
+}
+
+// A map of another scene never matches: the search gives up after
+// max_keyframes and the run goes on in its own frame, without the map.
+TEST(BackendSavedMap, RelocalizationGivesUpOnAMapOfAnotherPlace) {
+  SimulatedSequence room;
+  ASSERT_TRUE(Simulate("room", SimulationOptions(), 3, &room).ok());
+  SimulatedSequence square;
+  ASSERT_TRUE(Simulate("square", SimulationOptions(), 3, &square).ok());
+  std::unique_ptr<Backend> mapper = NewSavedMapBackend(square);
+  const std::vector<KeyframeInput> square_keyframes(
+      square.keyframes.begin(), square.keyframes.begin() + 20);
+  ASSERT_NO_FATAL_FAILURE(RunKeyframes(square_keyframes, mapper.get()));
+  SavedMap map;
+  ASSERT_TRUE(mapper->SaveMap(&map).ok());
+  ASSERT_FALSE(map.objects.empty());
+
+  std::unique_ptr<Backend> backend = NewSavedMapBackend(room);
+  RelocalizationOptions options;
+  options.max_keyframes = 30;
+  ASSERT_TRUE(backend->LoadMap(map, options).ok());
+  const std::vector<KeyframeInput> keyframes(room.keyframes.begin(),
+                                             room.keyframes.begin() + 40);
+  ASSERT_NO_FATAL_FAILURE(RunKeyframes(keyframes, backend.get()));
+  const RelocalizationReport report = *backend->Relocalization();
+  EXPECT_EQ(report.state, RelocalizationReport::State::kGaveUp);
+  EXPECT_EQ(report.keyframes, 30);
+  EXPECT_EQ(report.attempts, 30);
+  EXPECT_FALSE(report.keyframe.has_value());
+  // The run's own keyframes and objects, none of the map's.
+  EXPECT_EQ(backend->Keyframes().size(), keyframes.size());
+  EXPECT_EQ(backend->Statistics().keyframes, 40);
+  for (const MapObjectEstimate& o : backend->Objects()) {
+    EXPECT_NE(o.class_name, "");
+  }
+  EXPECT_FALSE(backend->Assignments().empty());
+}
+
+TEST(BackendSavedMap, RelocalizationRefusesOptionsItCannotUse) {
+  SimulatedSequence sequence;
+  ASSERT_TRUE(Simulate("room", SimulationOptions(), 3, &sequence).ok());
+  std::unique_ptr<Backend> backend = NewSavedMapBackend(sequence);
+  RelocalizationOptions options;
+  options.max_keyframes = 0;
+  EXPECT_FALSE(backend->LoadMap(SavedMap(), options).ok());
+  options = RelocalizationOptions();
+  options.match.min_support = 0;
+  EXPECT_FALSE(backend->LoadMap(SavedMap(), options).ok());
+  EXPECT_FALSE(backend->Relocalization().has_value());
+  // Nothing was loaded: a valid load still works.
+  EXPECT_TRUE(backend->LoadMap(SavedMap(), RelocalizationOptions()).ok());
+}
+
 MapObjectEstimate SavedChair(ObjectId id) {
   MapObjectEstimate o;
   o.id = id;

@@ -255,3 +255,39 @@ def test_maps_save_load_and_match_the_cli(simulated_log, cli, tmp_path):
         symba.Backend().load_map(str(bad))
     with pytest.raises(ValueError, match="exactly one of path and text"):
         symba.Backend().load_map()
+
+
+def test_relocalization_through_python(cli, tmp_path):
+    """A run through the room (seed 4) relocalises against the map of
+    another run (seed 3), through Backend.load_map(relocalize=True) and
+    replay(relocalize=True) alike, and says where."""
+    for seed in (3, 4):
+        cli("simulate", "--scene", "room", "--seed", seed, "--keyframes",
+            "20", "--out", tmp_path / f"room{seed}", "--quiet")
+    first = str(tmp_path / "room3" / "log.jsonl")
+    second = str(tmp_path / "room4" / "log.jsonl")
+    map_path = str(tmp_path / "map.json")
+    symba.replay(first, map_out=map_path)
+
+    header, keyframes = symba.read_log(second)
+    backend = symba.Backend(intrinsics=header.camera,
+                            class_priors=header.classes)
+    backend.load_map(map_path, relocalize=True)
+    assert backend.relocalization().state == "searching"
+    for keyframe in keyframes:
+        backend.add_keyframe(keyframe)
+        backend.optimize_window()
+    report = backend.relocalization()
+    assert report.state == "relocalized"
+    assert len(report.correspondences) >= 3
+    assert report.keyframe is not None
+    map_ids = {o["id"] for o in json.load(open(map_path))["objects"]}
+    assert {m for _, m in report.correspondences} <= map_ids
+    assert report.T_map_run.shape == (7,)
+
+    result = symba.replay(second, map_in=map_path, relocalize=True)
+    assert result.relocalization.state == "relocalized"
+    assert result.relocalization.keyframe == report.keyframe
+    assert symba.replay(second).relocalization is None
+    with pytest.raises(ValueError, match="needs map_in"):
+        symba.replay(second, relocalize=True)

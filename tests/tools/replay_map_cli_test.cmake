@@ -4,7 +4,8 @@ cmake_minimum_required(VERSION 3.16)
 # objects; the same
 # log replayed from that map with --map-in (its poses are in the map's frame
 # up to the front end's drift) writes a complete replay; a map file that is
-# not one is refused with its name, the member and exit 1, and no output.
+# not one is refused with its name, the member and exit 1, and no output;
+# another run through the room relocalises with --relocalize.
 # Inputs: SYMBA (the binary), WORK_DIR.
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
@@ -43,6 +44,38 @@ execute_process(COMMAND ${SYMBA} replay ${WORK_DIR}/sim/log.jsonl
 if(NOT rc EQUAL 0 OR NOT EXISTS ${WORK_DIR}/again/objects.json
    OR NOT EXISTS ${WORK_DIR}/map2.json)
   message(FATAL_ERROR "replay --map-in failed (${rc}): ${stderr}")
+endif()
+
+# --relocalize: another run through the same room (seed 4) finds where it
+# is from the map's objects and says so on stderr and in summary.json.
+execute_process(COMMAND ${SYMBA} simulate --scene room --seed 4
+    --keyframes 20 --out ${WORK_DIR}/sim4
+  RESULT_VARIABLE rc ERROR_VARIABLE stderr)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "simulate failed (${rc}): ${stderr}")
+endif()
+execute_process(COMMAND ${SYMBA} replay ${WORK_DIR}/sim4/log.jsonl
+    --out ${WORK_DIR}/reloc --map-in ${map} --relocalize
+  RESULT_VARIABLE rc ERROR_VARIABLE stderr)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "replay --relocalize failed (${rc}): ${stderr}")
+endif()
+string(REGEX MATCH "; relocalised at keyframe [0-9]+ on [0-9]+ objects"
+  said "${stderr}")
+if(said STREQUAL "")
+  message(FATAL_ERROR "the summary line must say where it relocalised: ${stderr}")
+endif()
+file(READ ${WORK_DIR}/reloc/summary.json summary)
+string(FIND "${summary}" "\"state\": \"relocalized\"" at)
+if(at EQUAL -1)
+  message(FATAL_ERROR "summary.json must report the relocalisation: ${summary}")
+endif()
+execute_process(COMMAND ${SYMBA} replay ${WORK_DIR}/sim4/log.jsonl
+    --out ${WORK_DIR}/no_map --relocalize --quiet
+  RESULT_VARIABLE rc ERROR_VARIABLE stderr)
+string(FIND "${stderr}" "--relocalize needs --map-in" at)
+if(NOT rc EQUAL 1 OR at EQUAL -1 OR EXISTS ${WORK_DIR}/no_map)
+  message(FATAL_ERROR "--relocalize without a map must exit 1 (${rc}): ${stderr}")
 endif()
 
 string(REPLACE "\"symba-map\"" "\"symba-log\"" bad "${text}")

@@ -37,12 +37,17 @@
 #include "symba/backend/backend_options.h"
 #include "symba/backend/estimates.h"
 #include "symba/backend/keyframe_input.h"
+#include "symba/backend/relocalization.h"
 #include "symba/backend/saved_map.h"
 #include "symba/categorization/categorize.h"
 #include "symba/common/status.h"
 #include "symba/geometry/pinhole_intrinsics.h"
 
 namespace symba {
+
+namespace internal {
+class Relocalizer;
+}  // namespace internal
 
 // Statistics of one solve.
 struct SolveReport {
@@ -125,16 +130,34 @@ class Backend {
   // Starts the run from a saved map, before the first keyframe: its
   // objects become confirmed map objects with their ids, each keeping its
   // covariance as a prior, and its classes' noise weighs their detections
-  // until the run's own estimate moves away from it. Keyframes must then
-  // be given in the map's frame. Fails, changing nothing, after a keyframe
-  // or a successful LoadMap, or on an invalid map (ids, numbers, poses).
-  Status LoadMap(const SavedMap& map);
+  // until the run's own estimate moves away from it. Without `relocalize`
+  // keyframes must then be given in the map's frame. With it their frame is
+  // unknown (docs/relocalization.md): the run is estimated in its own frame
+  // until the objects it mapped match the map's after a window solve, then
+  // its keyframes are estimated again in the map's frame and associated
+  // with the loaded objects. Until then Keyframe(s), Statistics and Noise
+  // describe the search in the run's own frame, Objects the loaded map,
+  // Assignments nothing (AddKeyframe's are pending: object -1).
+  // Fails, changing nothing, after a keyframe or a successful LoadMap, or
+  // on an invalid map (ids, numbers, poses) or options.
+  Status LoadMap(
+      const SavedMap& map,
+      const std::optional<RelocalizationOptions>& relocalize = std::nullopt);
+  // Where relocalisation stands; nullopt unless LoadMap was asked for it.
+  std::optional<RelocalizationReport> Relocalization() const;
   const BackendOptions& options() const;
 
  private:
   class Impl;
   explicit Backend(std::unique_ptr<Impl> impl);
+  bool Searching() const;
+  // What keyframes are estimated in: the relocalisation's search until it
+  // matched, this backend's own state otherwise.
+  const Impl& Run() const;
+  Impl& Run();
+  Status FinishRelocalization(SolveReport* report);
   std::unique_ptr<Impl> impl_;
+  std::unique_ptr<internal::Relocalizer> relocalizer_;
 };
 
 }  // namespace symba

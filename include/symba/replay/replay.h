@@ -30,6 +30,9 @@ struct ReplayOptions {
   BackendOptions backend;
   // Start from this saved map (Backend::LoadMap; docs/map-format.md).
   std::optional<SavedMap> map_in;
+  // With map_in: the log's frame is not the map's, relocalise
+  // (Backend::LoadMap; docs/relocalization.md).
+  std::optional<RelocalizationOptions> relocalize;
   // Also give the map at the end (ReplayResult::map; Backend::SaveMap).
   bool save_map = false;
   // Called after each keyframe with the number replayed so far (optional).
@@ -48,7 +51,9 @@ struct ReplayResult {
   // empty when they were computed.
   std::string covariance_note;
   std::optional<SavedMap> map;  // with ReplayOptions::save_map
-  double seconds = 0.0;         // wall time of the whole replay
+  // With ReplayOptions::relocalize: Backend::Relocalization() at the end.
+  std::optional<RelocalizationReport> relocalization;
+  double seconds = 0.0;  // wall time of the whole replay
 };
 
 // Reads `log_path` and replays it. Errors name the file and line.

@@ -386,6 +386,10 @@ void BindBackend(py::module_& m) {
           "(relocalization(); docs/relocalization.md). Raises symba.Error "
           "on a malformed map (naming the file and member) or after a "
           "keyframe.")
+      .def("give_up_relocalization",
+           &Backend::GiveUpRelocalization,
+           "Ends a search that has not matched: the run goes on in its own "
+           "frame without the map (nothing otherwise).")
       .def("relocalization",
            &Backend::Relocalization,
            "A RelocalizationReport, or None without load_map(relocalize="

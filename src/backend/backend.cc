@@ -319,13 +319,18 @@ Status Backend::OptimizeWindow(SolveReport* report) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count());
   if (matched) return FinishRelocalization(report);
-  if (relocalizer_->Exhausted()) {
-    // The run goes on in its own frame: the search's state becomes this
-    // backend's, the loaded map is let go.
-    std::unique_ptr<Backend> search = relocalizer_->GiveUp();
-    std::swap(impl_, search->impl_);
-  }
+  if (relocalizer_->Exhausted()) GiveUpRelocalization();
   return Status::Ok();
+}
+
+void Backend::GiveUpRelocalization() {
+  if (!Searching()) return;
+  // The run goes on in its own frame: the search's state becomes this
+  // backend's. The loaded map's state stays alive in the relocalizer, so
+  // that references a caller holds (Assignments(), options()) stay valid.
+  std::unique_ptr<Backend> search = relocalizer_->GiveUp();
+  std::swap(impl_, search->impl_);
+  relocalizer_->Retire(std::move(search));
 }
 
 // The search's keyframes, in the map's frame, are estimated again by this
@@ -335,19 +340,23 @@ Status Backend::FinishRelocalization(SolveReport* report) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<KeyframeInput> keyframes =
       relocalizer_->TakeKeyframesInMapFrame();
+  // Every keyframe is added even if one fails (the search took each of
+  // them, so none should), so that the run's next keyframe follows the
+  // last; the first error is returned.
+  Status first_error = Status::Ok();
   for (const KeyframeInput& keyframe : keyframes) {
     Status status = impl_->AddKeyframe(keyframe, nullptr);
     if (status.ok()) status = impl_->OptimizeWindow(report);
-    if (!status.ok()) {
-      return Status::Error("relocalisation, keyframe " +
-                           std::to_string(keyframe.id) + ": " +
-                           status.message());
+    if (!status.ok() && first_error.ok()) {
+      first_error =
+          Status::Error("relocalisation, keyframe " +
+                        std::to_string(keyframe.id) + ": " + status.message());
     }
   }
   relocalizer_->AddSeconds(
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count());
-  return Status::Ok();
+  return first_error;
 }
 
 Status Backend::OptimizeBatch(SolveReport* report) {
@@ -401,8 +410,15 @@ Status Backend::LoadMap(
   status = Create(
       impl_->options_, impl_->intrinsics_, impl_->class_priors_, &search);
   if (!status.ok()) return status;  // cannot fail: these created impl_
+  RelocalizationOptions options = *relocalize;
+  // A discrete class's order from its prior, unless the caller gave one.
+  for (const auto& [name, prior] : impl_->class_priors_) {
+    if (prior.symmetry == SymmetryType::kDiscrete && prior.order >= 2) {
+      options.match.symmetry_orders.emplace(name, prior.order);
+    }
+  }
   relocalizer_ = std::make_unique<internal::Relocalizer>(
-      std::move(search), map.objects, *relocalize);
+      std::move(search), map.objects, options);
   return Status::Ok();
 }
 

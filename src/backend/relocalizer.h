@@ -6,6 +6,7 @@
 #define SYMBA_SRC_BACKEND_RELOCALIZER_H_
 
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "symba/backend/backend.h"
@@ -39,10 +40,15 @@ class Relocalizer {
   std::vector<KeyframeInput> TakeKeyframesInMapFrame();
   // Gave up: the search backend, to go on with.
   std::unique_ptr<Backend> GiveUp();
+  // Keeps what the backend let go of alive until the backend goes.
+  void Retire(std::unique_ptr<Backend> retired) {
+    retired_ = std::move(retired);
+  }
   void AddSeconds(double seconds) { report_.seconds += seconds; }
 
  private:
   std::unique_ptr<Backend> search_;
+  std::unique_ptr<Backend> retired_;
   std::vector<MapObjectEstimate> map_objects_;
   RelocalizationOptions options_;
   std::vector<KeyframeInput> keyframes_;

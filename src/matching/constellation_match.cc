@@ -4,11 +4,13 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <map>
 #include <string>
 #include <utility>
 
 #include <Eigen/SVD>
 
+#include "symba/geometry/pi.h"
 #include "symba/matching/maximal_cliques.h"
 
 namespace symba {
@@ -18,8 +20,9 @@ using Eigen::Matrix3d;
 using Eigen::Vector3d;
 
 // What the matcher reads of one object: its position, the rotations it may
-// have (one for an asymmetric object, one per angle for a discrete one,
-// none for a continuous one) and its axis (symmetric objects).
+// have (one for an asymmetric object; for a discrete one of known order,
+// each pose turned by 2 pi m / order about its axis; none otherwise) and
+// its axis as a line (symmetric objects: its sign is arbitrary).
 struct Feature {
   ObjectId id = 0;
   const std::string* class_name = nullptr;
@@ -30,15 +33,40 @@ struct Feature {
   double sigma = 0.0;  // m, isotropic position standard deviation
 };
 
-Feature ToFeature(const MapObjectEstimate& object) {
+// The symmetry order of a discrete object: its class's where known, else
+// the one its upgrade found (0: unknown).
+int OrderOf(const MapObjectEstimate& object,
+            const std::map<std::string, int>& orders) {
+  const auto it = orders.find(object.class_name);
+  if (it != orders.end() && it->second >= 2) return it->second;
+  if (object.upgrade && object.upgrade->order >= 2) {
+    return object.upgrade->order;
+  }
+  return 0;
+}
+
+Feature ToFeature(const MapObjectEstimate& object,
+                  const std::map<std::string, int>& orders) {
   Feature feature;
   feature.id = object.id;
   feature.class_name = &object.class_name;
   feature.symmetry = object.symmetry;
   feature.position = object.t_wo;
-  if (object.symmetry != SymmetryType::kContinuous) {
+  if (object.symmetry == SymmetryType::kAsymmetric && !object.poses.empty()) {
+    feature.rotations.push_back(
+        object.poses.front().q.normalized().toRotationMatrix());
+  }
+  const int order = OrderOf(object, orders);
+  if (object.symmetry == SymmetryType::kDiscrete && order >= 2 &&
+      object.axis_o.norm() > 0.5) {
+    const Vector3d a_o = object.axis_o.normalized();
     for (const Rigid3d& pose : object.poses) {
-      feature.rotations.push_back(pose.q.normalized().toRotationMatrix());
+      const Matrix3d R = pose.q.normalized().toRotationMatrix();
+      for (int m = 0; m < order; ++m) {
+        const double turn = 2.0 * kPi * m / order;
+        feature.rotations.push_back(
+            R * Eigen::AngleAxisd(turn, a_o).toRotationMatrix());
+      }
     }
   }
   if (object.symmetry != SymmetryType::kAsymmetric &&
@@ -54,20 +82,20 @@ Feature ToFeature(const MapObjectEstimate& object) {
   return feature;
 }
 
+// Same class; continuous objects pair with continuous ones only.
 bool Compatible(const Feature& local, const Feature& map) {
   if (*local.class_name != *map.class_name) return false;
-  const bool local_rotates = !local.rotations.empty();
-  const bool map_rotates = !map.rotations.empty();
-  if (local_rotates != map_rotates) return false;
-  return local_rotates || (local.axis && map.axis);
+  return (local.symmetry == SymmetryType::kContinuous) ==
+         (map.symmetry == SymmetryType::kContinuous);
 }
 
 double RotationAngle(const Matrix3d& a, const Matrix3d& b) {
   return Eigen::AngleAxisd(a.transpose() * b).angle();
 }
 
-double VectorAngle(const Vector3d& a, const Vector3d& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
+// The angle between two lines through the origin, in [0, pi / 2].
+double LineAngle(const Vector3d& a, const Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), std::abs(a.dot(b)));
 }
 
 // The smallest angle between R * (a rotation of `local`) and a rotation
@@ -119,6 +147,11 @@ class Matcher {
     const CliqueSearchResult cliques = MaximalCliques(
         ConsistencyGraph(), {options_.min_support, options_.max_cliques});
     result.cliques = static_cast<int>(cliques.cliques.size());
+    if (cliques.truncated) {
+      // Another transform may be as well supported as any found.
+      result.outcome = ConstellationMatchResult::Outcome::kTooManyCliques;
+      return result;
+    }
     std::vector<Hypothesis> hypotheses;
     for (const std::vector<int>& clique : cliques.cliques) {
       std::optional<Hypothesis> hypothesis = Verify(clique);
@@ -183,8 +216,8 @@ class Matcher {
       return false;
     }
     if (la.axis && lb.axis && ma.axis && mb.axis) {
-      const double local_angle = VectorAngle(*la.axis, *lb.axis);
-      const double map_angle = VectorAngle(*ma.axis, *mb.axis);
+      const double local_angle = LineAngle(*la.axis, *lb.axis);
+      const double map_angle = LineAngle(*ma.axis, *mb.axis);
       if (std::abs(local_angle - map_angle) > 2.0 * options_.angle_gate) {
         return false;
       }
@@ -222,16 +255,18 @@ class Matcher {
       return false;
     }
     if (local.axis && map.axis) {
-      return std::abs(local.axis->dot(d_local) - map.axis->dot(d_map)) <= gate;
+      return std::abs(std::abs(local.axis->dot(d_local)) -
+                      std::abs(map.axis->dot(d_map))) <= gate;
     }
     return true;
   }
 
+  using Pairs = std::vector<std::pair<Vector3d, Vector3d>>;
+
   // Weighted Kabsch: the rotation R minimising sum |R u - v|^2 over the
   // pairs (u, v); nullopt when the pairs leave it undetermined (the second
   // singular value of sum u v^T below 5 % of the first).
-  static std::optional<Matrix3d> Kabsch(
-      const std::vector<std::pair<Vector3d, Vector3d>>& pairs) {
+  static std::optional<Matrix3d> Kabsch(const Pairs& pairs) {
     Matrix3d H = Matrix3d::Zero();
     for (const auto& [u, v] : pairs) H += u * v.transpose();
     const Eigen::JacobiSVD<Matrix3d> svd(
@@ -245,10 +280,13 @@ class Matcher {
     return svd.matrixV() * fix * svd.matrixU().transpose();
   }
 
-  // The transform of a set of candidates: positions about their centroids,
-  // axes and single rotations as direction pairs; a discrete object's pose
-  // is the one closest under a first estimate (or, when nothing else
-  // determines the rotation, tried in turn).
+  // The transform of a set of candidates (weighted Kabsch). First from
+  // what has no ambiguity: the positions about their centroids (scaled by
+  // their spread, so that they weigh like the unit directions) and the
+  // columns of single rotations; if that leaves the rotation free, also
+  // from the axes with their signs made to agree, both relative signs
+  // tried. Then each axis's sign and each discrete object's pose are the
+  // ones closest under that fit, and the fit is made again with them.
   std::optional<Rigid3d> EstimateTransform(
       const std::vector<int>& subset) const {
     Vector3d c_local = Vector3d::Zero();
@@ -259,42 +297,90 @@ class Matcher {
     }
     c_local /= static_cast<double>(subset.size());
     c_map /= static_cast<double>(subset.size());
-    std::vector<std::pair<Vector3d, Vector3d>> pairs;
-    std::vector<int> multi_pose;
+    double spread_sq = 0.0;
+    for (int index : subset) {
+      spread_sq += (LocalOf(index).position - c_local).squaredNorm() +
+                   (MapOf(index).position - c_map).squaredNorm();
+    }
+    const double spread =
+        std::sqrt(spread_sq / (2.0 * static_cast<double>(subset.size())));
+    Pairs fixed;
     for (int index : subset) {
       const Feature& l = LocalOf(index);
       const Feature& m = MapOf(index);
-      pairs.emplace_back(l.position - c_local, m.position - c_map);
-      if (l.axis && m.axis) pairs.emplace_back(*l.axis, *m.axis);
+      if (spread > 1e-9) {
+        fixed.emplace_back((l.position - c_local) / spread,
+                           (m.position - c_map) / spread);
+      }
       if (l.rotations.size() == 1 && m.rotations.size() == 1) {
-        AddRotationColumns(l.rotations[0], m.rotations[0], &pairs);
-      } else if (!l.rotations.empty() && !m.rotations.empty()) {
-        multi_pose.push_back(index);
+        AddRotationColumns(l.rotations[0], m.rotations[0], &fixed);
       }
     }
-    const std::optional<Matrix3d> first = Kabsch(pairs);
+    std::optional<Matrix3d> first = Kabsch(fixed);
+    if (!first) first = FitWithAlignedAxes(subset, fixed);
     if (!first) return std::nullopt;  // the rotation about some axis free
-    Matrix3d R = *first;
-    if (!multi_pose.empty()) {
-      std::vector<std::pair<Vector3d, Vector3d>> with_poses = pairs;
-      for (int index : multi_pose) {
+    Pairs pairs = fixed;
+    for (int index : subset) {
+      const Feature& l = LocalOf(index);
+      const Feature& m = MapOf(index);
+      if (l.axis && m.axis) {
+        const double sign = (*first * *l.axis).dot(*m.axis) < 0.0 ? -1.0 : 1.0;
+        pairs.emplace_back(sign * *l.axis, *m.axis);
+      }
+      const bool single = l.rotations.size() == 1 && m.rotations.size() == 1;
+      if (!single && !l.rotations.empty() && !m.rotations.empty()) {
         int a = 0;
         int b = 0;
-        ClosestRotation(R, LocalOf(index), MapOf(index), &a, &b);
-        AddRotationColumns(
-            LocalOf(index).rotations[static_cast<std::size_t>(a)],
-            MapOf(index).rotations[static_cast<std::size_t>(b)],
-            &with_poses);
+        ClosestRotation(*first, l, m, &a, &b);
+        AddRotationColumns(l.rotations[static_cast<std::size_t>(a)],
+                           m.rotations[static_cast<std::size_t>(b)],
+                           &pairs);
       }
-      R = Kabsch(with_poses).value_or(R);
     }
+    const Matrix3d R = Kabsch(pairs).value_or(*first);
     return Rigid3d(Eigen::Quaterniond(R).normalized(), c_map - R * c_local);
   }
 
-  static void AddRotationColumns(
-      const Matrix3d& local,
-      const Matrix3d& map,
-      std::vector<std::pair<Vector3d, Vector3d>>* pairs) {
+  // Positions and single rotations leave the rotation free: the axes, each
+  // made to agree in sign with the first one of its side, in both relative
+  // signs; the determined fit with the smaller residual.
+  std::optional<Matrix3d> FitWithAlignedAxes(const std::vector<int>& subset,
+                                             const Pairs& fixed) const {
+    std::optional<Vector3d> first_local;
+    std::optional<Vector3d> first_map;
+    Pairs axes;
+    for (int index : subset) {
+      const Feature& l = LocalOf(index);
+      const Feature& m = MapOf(index);
+      if (!l.axis || !m.axis) continue;
+      if (!first_local) {
+        first_local = *l.axis;
+        first_map = *m.axis;
+      }
+      axes.emplace_back(l.axis->dot(*first_local) < 0.0 ? -*l.axis : *l.axis,
+                        m.axis->dot(*first_map) < 0.0 ? -*m.axis : *m.axis);
+    }
+    if (axes.empty()) return std::nullopt;
+    std::optional<Matrix3d> best;
+    double best_residual = std::numeric_limits<double>::infinity();
+    for (double sign : {1.0, -1.0}) {
+      Pairs pairs = fixed;
+      for (const auto& [u, v] : axes) pairs.emplace_back(sign * u, v);
+      const std::optional<Matrix3d> R = Kabsch(pairs);
+      if (!R) continue;
+      double residual = 0.0;
+      for (const auto& [u, v] : pairs) residual += (*R * u - v).squaredNorm();
+      if (residual < best_residual) {
+        best = R;
+        best_residual = residual;
+      }
+    }
+    return best;
+  }
+
+  static void AddRotationColumns(const Matrix3d& local,
+                                 const Matrix3d& map,
+                                 Pairs* pairs) {
     for (int c = 0; c < 3; ++c) {
       pairs->emplace_back(local.col(c), map.col(c));
     }
@@ -315,7 +401,7 @@ class Matcher {
       return false;
     }
     if (l.axis && m.axis &&
-        VectorAngle(R * *l.axis, *m.axis) > options_.angle_gate) {
+        LineAngle(R * *l.axis, *m.axis) > options_.angle_gate) {
       return false;
     }
     *squared_error = error * error;
@@ -417,11 +503,12 @@ class Matcher {
   std::vector<Candidate> candidates_;
 };
 
-std::vector<Feature> ToFeatures(const std::vector<MapObjectEstimate>& objects) {
+std::vector<Feature> ToFeatures(const std::vector<MapObjectEstimate>& objects,
+                                const std::map<std::string, int>& orders) {
   std::vector<Feature> features;
   features.reserve(objects.size());
   for (const MapObjectEstimate& object : objects) {
-    features.push_back(ToFeature(object));
+    features.push_back(ToFeature(object, orders));
   }
   return features;
 }
@@ -440,6 +527,8 @@ const char* ToString(ConstellationMatchResult::Outcome outcome) {
       return "ambiguous";
     case ConstellationMatchResult::Outcome::kTooLarge:
       return "too many candidates";
+    case ConstellationMatchResult::Outcome::kTooManyCliques:
+      return "too many cliques";
   }
   return "unknown";
 }
@@ -448,7 +537,10 @@ ConstellationMatchResult MatchConstellation(
     const std::vector<MapObjectEstimate>& local,
     const std::vector<MapObjectEstimate>& map,
     const ConstellationMatchOptions& options) {
-  return Matcher(ToFeatures(local), ToFeatures(map), options).Run();
+  return Matcher(ToFeatures(local, options.symmetry_orders),
+                 ToFeatures(map, options.symmetry_orders),
+                 options)
+      .Run();
 }
 
 }  // namespace symba

@@ -65,6 +65,11 @@ Status ReplayLog(const std::string& log_path,
   if (options.relocalize && !options.map_in) {
     return Status::Error("options: relocalisation needs a map to start from");
   }
+  if (options.relocalize && options.mode == ReplayMode::kBatch) {
+    return Status::Error(
+        "options: relocalisation matches after window solves; batch mode "
+        "has none");
+  }
   if (options.map_in) {
     status = backend->LoadMap(*options.map_in, options.relocalize);
     if (!status.ok()) return Status::Error("map: " + status.message());
@@ -89,6 +94,8 @@ Status ReplayLog(const std::string& log_path,
     ++count;
     if (options.progress) options.progress(count);
   }
+  // Still searching at the end: the run's own frame for everything.
+  backend->GiveUpRelocalization();
   if (batch && count > 0) {
     status = backend->OptimizeBatch(&replay.last_solve);
     if (!status.ok()) return Status::Error(log_path + ": " + status.message());

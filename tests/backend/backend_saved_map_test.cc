@@ -3,6 +3,7 @@
 // every mapped object and tracks as well as the whole run did; a loaded
 // object keeps its covariance as a prior; ids survive; bad maps and late
 // loads are refused without changing anything.
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <set>
@@ -162,20 +163,25 @@ TEST(BackendSavedMap, SecondHalfWithItsFirstPoseUnknownRelocalizes) {
   EXPECT_LT(from_map, 1.2 * at_once) << from_map << " vs " << at_once;
 }
 
-// A map of another scene never matches: the search gives up after
+// A map whose objects are where the run's are not (the room's own map with
+// every object moved) never matches: the search gives up after
 // max_keyframes and the run goes on in its own frame, without the map.
-TEST(BackendSavedMap, RelocalizationGivesUpOnAMapOfAnotherPlace) {
+TEST(BackendSavedMap, RelocalizationGivesUpOnAMapOfAnotherArrangement) {
   SimulatedSequence room;
   ASSERT_TRUE(Simulate("room", SimulationOptions(), 3, &room).ok());
-  SimulatedSequence square;
-  ASSERT_TRUE(Simulate("square", SimulationOptions(), 3, &square).ok());
-  std::unique_ptr<Backend> mapper = NewSavedMapBackend(square);
-  const std::vector<KeyframeInput> square_keyframes(
-      square.keyframes.begin(), square.keyframes.begin() + 20);
-  ASSERT_NO_FATAL_FAILURE(RunKeyframes(square_keyframes, mapper.get()));
+  std::unique_ptr<Backend> mapper = NewSavedMapBackend(room);
+  ASSERT_NO_FATAL_FAILURE(RunKeyframes(
+      {room.keyframes.begin(), room.keyframes.begin() + 36}, mapper.get()));
   SavedMap map;
   ASSERT_TRUE(mapper->SaveMap(&map).ok());
-  ASSERT_FALSE(map.objects.empty());
+  ASSERT_EQ(map.objects.size(), 5u);
+  // Each object 3 m further out along its own direction from the centre:
+  // the classes are there, the arrangement is not.
+  for (MapObjectEstimate& o : map.objects) {
+    const Eigen::Vector3d out(3.0 * o.t_wo.x(), 3.0 * o.t_wo.y(), 0.0);
+    o.t_wo += out;
+    for (Rigid3d& pose : o.poses) pose.t += out;
+  }
 
   std::unique_ptr<Backend> backend = NewSavedMapBackend(room);
   RelocalizationOptions options;
@@ -188,14 +194,49 @@ TEST(BackendSavedMap, RelocalizationGivesUpOnAMapOfAnotherPlace) {
   EXPECT_EQ(report.state, RelocalizationReport::State::kGaveUp);
   EXPECT_EQ(report.keyframes, 30);
   EXPECT_EQ(report.attempts, 30);
+  EXPECT_NE(report.last_outcome, "too few candidates");
   EXPECT_FALSE(report.keyframe.has_value());
-  // The run's own keyframes and objects, none of the map's.
+  // The run's own keyframes and objects: each object where a true one is
+  // (the log's frame is the world here), none where the moved map has one.
   EXPECT_EQ(backend->Keyframes().size(), keyframes.size());
   EXPECT_EQ(backend->Statistics().keyframes, 40);
+  ASSERT_FALSE(backend->Objects().empty());
   for (const MapObjectEstimate& o : backend->Objects()) {
-    EXPECT_NE(o.class_name, "");
+    double nearest = 1e9;
+    for (const SimulatedObject& truth : room.objects) {
+      nearest = std::min(nearest, (truth.T_wo.t - o.t_wo).norm());
+    }
+    EXPECT_LT(nearest, 0.3) << o.id;
   }
   EXPECT_FALSE(backend->Assignments().empty());
+}
+
+// Keyframes that end before a match: GiveUpRelocalization puts the results
+// in the run's own frame; after it, and after a match, it does nothing.
+TEST(BackendSavedMap, GiveUpRelocalizationEndsASearch) {
+  SimulatedSequence room;
+  ASSERT_TRUE(Simulate("room", SimulationOptions(), 3, &room).ok());
+  std::unique_ptr<Backend> mapper = NewSavedMapBackend(room);
+  ASSERT_NO_FATAL_FAILURE(RunKeyframes(
+      {room.keyframes.begin(), room.keyframes.begin() + 36}, mapper.get()));
+  SavedMap map;
+  ASSERT_TRUE(mapper->SaveMap(&map).ok());
+  std::unique_ptr<Backend> backend = NewSavedMapBackend(room);
+  ASSERT_TRUE(backend->LoadMap(map, RelocalizationOptions()).ok());
+  ASSERT_NO_FATAL_FAILURE(RunKeyframes(
+      {room.keyframes.begin(), room.keyframes.begin() + 2}, backend.get()));
+  ASSERT_EQ(backend->Relocalization()->state,
+            RelocalizationReport::State::kSearching);
+  const std::vector<DetectionAssignment>& held = backend->Assignments();
+  EXPECT_TRUE(held.empty());  // pending while searching
+  backend->GiveUpRelocalization();
+  EXPECT_EQ(backend->Relocalization()->state,
+            RelocalizationReport::State::kGaveUp);
+  EXPECT_TRUE(held.empty());  // the reference held still refers to memory
+  EXPECT_EQ(backend->Keyframes().size(), 2u);
+  EXPECT_FALSE(backend->Assignments().empty());
+  backend->GiveUpRelocalization();
+  EXPECT_EQ(backend->Keyframes().size(), 2u);
 }
 
 TEST(BackendSavedMap, RelocalizationRefusesOptionsItCannotUse) {

@@ -165,9 +165,96 @@ TEST(ConstellationMatch, ADiscreteObjectMatchesWhicheverOfItsPosesItShows) {
   }
   // The local table's poses listed from its other angle.
   std::swap(local[0].poses[0], local[0].poses[1]);
-  const ConstellationMatchResult result = MatchConstellation(local, map);
+  ConstellationMatchOptions options;
+  options.symmetry_orders = {{"table", 2}};
+  const ConstellationMatchResult result =
+      MatchConstellation(local, map, options);
   ASSERT_EQ(result.outcome, ConstellationMatchResult::Outcome::kMatched);
   ExpectTransform(*result.match, kTLocalMap.Inverse(), 1e-6, 1e-6);
+}
+
+TEST(ConstellationMatch, AxesAreLinesWhoseSignNoRunAgreesOn) {
+  // Four round tables, every local axis pointing down: the same place.
+  // (The first three make a triangle whose sides differ by more than the
+  // gates: turned over, it could not be told apart from its mirror image.)
+  std::vector<MapObjectEstimate> map = {
+      Continuous(1, "round_table", Vector3d(0.0, 0.0, 0.0)),
+      Continuous(2, "round_table", Vector3d(4.0, 0.0, 0.0)),
+      Continuous(3, "round_table", Vector3d(1.0, 2.0, 0.0)),
+      Continuous(4, "round_table", Vector3d(-1.0, 3.0, 0.0))};
+  std::vector<MapObjectEstimate> local;
+  for (const MapObjectEstimate& object : map) {
+    local.push_back(Moved(object, kTLocalMap, object.id + 10));
+    local.back().axis_w = -local.back().axis_w;
+  }
+  ConstellationMatchResult result = MatchConstellation(local, map);
+  ASSERT_EQ(result.outcome, ConstellationMatchResult::Outcome::kMatched)
+      << ToString(result.outcome);
+  ExpectTransform(*result.match, kTLocalMap.Inverse(), 1e-6, 1e-6);
+  // One flipped among three.
+  local.resize(3);
+  local[0].axis_w = -local[0].axis_w;
+  map.resize(3);
+  result = MatchConstellation(local, map);
+  ASSERT_EQ(result.outcome, ConstellationMatchResult::Outcome::kMatched);
+  ExpectTransform(*result.match, kTLocalMap.Inverse(), 1e-6, 1e-6);
+}
+
+TEST(ConstellationMatch, AKnownOrderMakesOnePoseStandForTheWholeGroup) {
+  // Three four-fold tables, each with the one pose its run anchored it at
+  // (a class prior folds every view onto it); the local ones anchored a
+  // quarter turn, a half turn and no turn away from the map's.
+  std::vector<MapObjectEstimate> map;
+  std::vector<MapObjectEstimate> local;
+  const std::vector<Vector3d> at = {Vector3d(0.0, 0.0, 0.0),
+                                    Vector3d(2.0, 0.5, 0.0),
+                                    Vector3d(0.5, 2.0, 0.0)};
+  for (int i = 0; i < 3; ++i) {
+    map.push_back(
+        Discrete(i, "square_table", at[static_cast<size_t>(i)], 0.3 * i, 1));
+    MapObjectEstimate seen = Discrete(10 + i,
+                                      "square_table",
+                                      at[static_cast<size_t>(i)],
+                                      0.3 * i + 0.5 * kPi * i,
+                                      1);
+    local.push_back(Moved(seen, kTLocalMap, 10 + i));
+  }
+  ConstellationMatchOptions options;
+  options.symmetry_orders = {{"square_table", 4}};
+  const ConstellationMatchResult result =
+      MatchConstellation(local, map, options);
+  ASSERT_EQ(result.outcome, ConstellationMatchResult::Outcome::kMatched)
+      << ToString(result.outcome);
+  EXPECT_EQ(result.match->correspondences.size(), 3u);
+  ExpectTransform(*result.match, kTLocalMap.Inverse(), 1e-6, 1e-6);
+}
+
+TEST(ConstellationMatch, ObjectsInALineWithAxesAcrossItDetermineTheRotation) {
+  // Round tables along a corridor, 0, 8 and 20 m: the positions fix all
+  // but the rotation about the corridor, the vertical axes fix that.
+  const std::vector<MapObjectEstimate> map = {
+      Continuous(1, "round_table", Vector3d(0.0, 0.0, 0.0)),
+      Continuous(2, "round_table", Vector3d(8.0, 0.0, 0.0)),
+      Continuous(3, "round_table", Vector3d(20.0, 0.0, 0.0))};
+  std::vector<MapObjectEstimate> local;
+  for (const MapObjectEstimate& object : map) {
+    local.push_back(Moved(object, kTLocalMap, object.id + 10));
+  }
+  const ConstellationMatchResult result = MatchConstellation(local, map);
+  ASSERT_EQ(result.outcome, ConstellationMatchResult::Outcome::kMatched)
+      << ToString(result.outcome);
+  ExpectTransform(*result.match, kTLocalMap.Inverse(), 1e-6, 1e-6);
+}
+
+TEST(ConstellationMatch, ATruncatedSearchMatchesNothing) {
+  const std::vector<MapObjectEstimate> map = Room();
+  ConstellationMatchOptions options;
+  options.min_support = 1;
+  options.max_cliques = 1;
+  const ConstellationMatchResult result =
+      MatchConstellation(LocalRoom(map), map, options);
+  EXPECT_EQ(result.outcome, ConstellationMatchResult::Outcome::kTooManyCliques);
+  EXPECT_FALSE(result.match.has_value());
 }
 
 TEST(ConstellationMatch, ARoundTableGivesNoYaw) {

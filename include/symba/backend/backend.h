@@ -145,6 +145,11 @@ class Backend {
       const std::optional<RelocalizationOptions>& relocalize = std::nullopt);
   // Where relocalisation stands; nullopt unless LoadMap was asked for it.
   std::optional<RelocalizationReport> Relocalization() const;
+  // Ends a search that has not matched (as max_keyframes would): the run
+  // goes on in its own frame without the map. Nothing otherwise. A run
+  // whose keyframes end while searching calls it to give results in one
+  // frame (symba replay does).
+  void GiveUpRelocalization();
   const BackendOptions& options() const;
 
  private:

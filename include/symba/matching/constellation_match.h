@@ -5,15 +5,16 @@
 //
 // A candidate pairs a local object with a map object of the same class and
 // a compatible symmetry type (continuous with continuous; asymmetric and
-// discrete with either, a discrete object standing for the set of its
-// symmetric poses). Two candidates are consistent when every quantity a
-// rigid transform keeps agrees within the gates: the distance between the
-// two objects, the displacement in each object's own frame (modulo its
-// symmetry) or along its axis, the angle between two axes and the relative
-// rotation of two asymmetric objects. The maximal cliques of that graph are
-// the candidate matches; each gets a transform (weighted Kabsch over
-// positions, axes and rotations, a discrete object's pose chosen per
-// correspondence) and keeps the correspondences that transform explains.
+// discrete with either, a discrete object of known order standing for its
+// symmetry group). Axes are lines: their sign is arbitrary. Two candidates
+// are consistent when every quantity a rigid transform keeps agrees within
+// the gates: the distance between the two objects, the displacement in
+// each object's own frame (modulo its symmetry) or along its axis, the
+// angle between two axes and the relative rotation of two asymmetric
+// objects. The maximal cliques of that graph are the candidate matches;
+// each gets a transform (weighted Kabsch over positions, axes and
+// rotations, a discrete object's pose chosen per correspondence) and keeps
+// the correspondences that transform explains.
 // The match is the one with the most such correspondences if it has at
 // least min_support, determines the rotation, and no other transform is
 // explained by as many (two places with the same arrangement of the same
@@ -21,7 +22,9 @@
 #ifndef SYMBA_MATCHING_CONSTELLATION_MATCH_H_
 #define SYMBA_MATCHING_CONSTELLATION_MATCH_H_
 
+#include <map>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "symba/backend/estimates.h"
@@ -42,7 +45,15 @@ struct ConstellationMatchOptions {
   // correspondences, and by min_support, makes the match ambiguous.
   int ambiguity_margin = 0;
   int max_candidates = 4000;  // the search refuses larger problems
-  int max_cliques = 10000;    // and stops enumerating beyond this
+      // More maximal cliques than this: no match (one left out could be as
+  // well supported as the best found).
+  int max_cliques = 10000;
+  // Each class's symmetry order where known (a class prior's): a discrete
+  // object then stands for its whole symmetry group, each of its poses
+  // turned by 2 pi m / order about its axis. A discrete object of a class
+  // without one (and not upgraded with an order) is matched by its
+  // position and axis only.
+  std::map<std::string, int> symmetry_orders;
 };
 
 struct ObjectCorrespondence {
@@ -63,6 +74,7 @@ struct ConstellationMatchResult {
     kNoConsistentSet,   // no transform explains min_support of them
     kAmbiguous,         // another transform explains as many
     kTooLarge,          // more than max_candidates candidate pairs
+    kTooManyCliques,    // more than max_cliques maximal cliques
   };
   Outcome outcome = Outcome::kTooFewCandidates;
   std::optional<ConstellationMatch> match;  // kMatched only

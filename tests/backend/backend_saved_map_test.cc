@@ -171,10 +171,10 @@ TEST(BackendSavedMap, RelocalizationGivesUpOnAMapOfAnotherArrangement) {
   ASSERT_TRUE(Simulate("room", SimulationOptions(), 3, &room).ok());
   std::unique_ptr<Backend> mapper = NewSavedMapBackend(room);
   ASSERT_NO_FATAL_FAILURE(RunKeyframes(
-      {room.keyframes.begin(), room.keyframes.begin() + 36}, mapper.get()));
+      {room.keyframes.begin(), room.keyframes.begin() + 24}, mapper.get()));
   SavedMap map;
   ASSERT_TRUE(mapper->SaveMap(&map).ok());
-  ASSERT_EQ(map.objects.size(), 5u);
+  ASSERT_GE(map.objects.size(), 3u);
   // Each object 3 m further out along its own direction from the centre:
   // the classes are there, the arrangement is not.
   for (MapObjectEstimate& o : map.objects) {
@@ -185,21 +185,21 @@ TEST(BackendSavedMap, RelocalizationGivesUpOnAMapOfAnotherArrangement) {
 
   std::unique_ptr<Backend> backend = NewSavedMapBackend(room);
   RelocalizationOptions options;
-  options.max_keyframes = 30;
+  options.max_keyframes = 20;
   ASSERT_TRUE(backend->LoadMap(map, options).ok());
   const std::vector<KeyframeInput> keyframes(room.keyframes.begin(),
-                                             room.keyframes.begin() + 40);
+                                             room.keyframes.begin() + 24);
   ASSERT_NO_FATAL_FAILURE(RunKeyframes(keyframes, backend.get()));
   const RelocalizationReport report = *backend->Relocalization();
   EXPECT_EQ(report.state, RelocalizationReport::State::kGaveUp);
-  EXPECT_EQ(report.keyframes, 30);
-  EXPECT_EQ(report.attempts, 30);
+  EXPECT_EQ(report.keyframes, 20);
+  EXPECT_EQ(report.attempts, 20);
   EXPECT_NE(report.last_outcome, "too few candidates");
   EXPECT_FALSE(report.keyframe.has_value());
   // The run's own keyframes and objects: each object where a true one is
   // (the log's frame is the world here), none where the moved map has one.
   EXPECT_EQ(backend->Keyframes().size(), keyframes.size());
-  EXPECT_EQ(backend->Statistics().keyframes, 40);
+  EXPECT_EQ(backend->Statistics().keyframes, 24);
   ASSERT_FALSE(backend->Objects().empty());
   for (const MapObjectEstimate& o : backend->Objects()) {
     double nearest = 1e9;
@@ -218,7 +218,7 @@ TEST(BackendSavedMap, GiveUpRelocalizationEndsASearch) {
   ASSERT_TRUE(Simulate("room", SimulationOptions(), 3, &room).ok());
   std::unique_ptr<Backend> mapper = NewSavedMapBackend(room);
   ASSERT_NO_FATAL_FAILURE(RunKeyframes(
-      {room.keyframes.begin(), room.keyframes.begin() + 36}, mapper.get()));
+      {room.keyframes.begin(), room.keyframes.begin() + 12}, mapper.get()));
   SavedMap map;
   ASSERT_TRUE(mapper->SaveMap(&map).ok());
   std::unique_ptr<Backend> backend = NewSavedMapBackend(room);

@@ -51,78 +51,96 @@ double SecondHalfRmse(const SimulatedSequence& sequence,
   return std::sqrt(sum / static_cast<double>(n));
 }
 
-TEST(BackendSavedMap, SecondHalfFromTheFirstHalfsMapReusesEveryObject) {
+// The simulated room (seed 3) split in two halves; the first half mapped.
+struct SplitRoom {
   SimulatedSequence sequence;
-  ASSERT_TRUE(Simulate("room", SimulationOptions(), 3, &sequence).ok());
-  const size_t half = sequence.keyframes.size() / 2;
-  const std::vector<KeyframeInput> first(sequence.keyframes.begin(),
-                                         sequence.keyframes.begin() + half);
-  std::vector<KeyframeInput> second(sequence.keyframes.begin() + half,
-                                    sequence.keyframes.end());
-
-  std::unique_ptr<Backend> before = NewSavedMapBackend(sequence);
-  ASSERT_NO_FATAL_FAILURE(RunKeyframes(first, before.get()));
+  size_t half = 0;
+  std::vector<KeyframeInput> second;
   SavedMap map;
-  ASSERT_TRUE(before->SaveMap(&map).ok());
-  ASSERT_EQ(map.objects.size(), sequence.objects.size());
-  for (const MapObjectEstimate& o : map.objects) {
+  Rigid3d last_of_first;  // the first half's last keyframe estimate
+};
+
+void MapTheFirstHalf(SplitRoom* room) {
+  ASSERT_TRUE(Simulate("room", SimulationOptions(), 3, &room->sequence).ok());
+  const std::vector<KeyframeInput>& all = room->sequence.keyframes;
+  room->half = all.size() / 2;
+  room->second.assign(all.begin() + room->half, all.end());
+  std::unique_ptr<Backend> before = NewSavedMapBackend(room->sequence);
+  ASSERT_NO_FATAL_FAILURE(
+      RunKeyframes({all.begin(), all.begin() + room->half}, before.get()));
+  ASSERT_TRUE(before->SaveMap(&room->map).ok());
+  room->last_of_first = before->Keyframes().back().T_wc;
+}
+
+std::set<ObjectId> Ids(const std::vector<MapObjectEstimate>& objects) {
+  std::set<ObjectId> ids;
+  for (const MapObjectEstimate& o : objects) ids.insert(o.id);
+  return ids;
+}
+
+// The run from the map made no new object and put every detection on a
+// loaded one.
+void ExpectOnlyLoadedObjects(const SplitRoom& room, const Backend& after) {
+  const std::set<ObjectId> loaded = Ids(room.map.objects);
+  EXPECT_EQ(Ids(after.Objects()), loaded);
+  EXPECT_EQ(after.Statistics().objects, static_cast<int>(loaded.size()));
+  for (const DetectionAssignment& a : after.Assignments()) {
+    EXPECT_EQ(loaded.count(a.object), 1u) << a.detection;
+  }
+}
+
+// The second half's keyframe RMSE (in the map's frame, no alignment)
+// within 1.2x of the same keyframes' when the whole run is replayed at
+// once. The whole run adds no code path and takes half a minute under
+// ASan + UBSan: the optimised build compares with it.
+void ExpectAsGoodAsTheWholeRun(const SplitRoom& room, const Backend& after) {
+#ifdef SYMBA_SANITIZED
+  GTEST_SKIP() << "the comparison with the whole run is the optimised build's";
+#endif
+  std::unique_ptr<Backend> whole = NewSavedMapBackend(room.sequence);
+  ASSERT_NO_FATAL_FAILURE(RunKeyframes(room.sequence.keyframes, whole.get()));
+  const double from_map =
+      SecondHalfRmse(room.sequence, after.Keyframes(), room.half);
+  const double at_once =
+      SecondHalfRmse(room.sequence, whole->Keyframes(), room.half);
+  EXPECT_LT(from_map, 1.2 * at_once) << from_map << " vs " << at_once;
+}
+
+TEST(BackendSavedMap, SecondHalfFromTheFirstHalfsMapReusesEveryObject) {
+  SplitRoom room;
+  ASSERT_NO_FATAL_FAILURE(MapTheFirstHalf(&room));
+  ASSERT_EQ(room.map.objects.size(), room.sequence.objects.size());
+  for (const MapObjectEstimate& o : room.map.objects) {
     EXPECT_TRUE(o.covariance.has_value()) << o.id;
   }
-
   // The second half in the map's frame: its first pose from the first
   // half's last estimate and the odometry, the rest by odometry alone.
+  std::vector<KeyframeInput>& second = room.second;
   ASSERT_TRUE(second.front().odometry.has_value());
   second.front().T_wc =
-      before->Keyframes().back().T_wc * second.front().odometry->T_prev_cur;
+      room.last_of_first * second.front().odometry->T_prev_cur;
   second.front().odometry.reset();
   for (size_t k = 1; k < second.size(); ++k) second[k].T_wc.reset();
 
-  std::unique_ptr<Backend> after = NewSavedMapBackend(sequence);
-  ASSERT_TRUE(after->LoadMap(map).ok());
+  std::unique_ptr<Backend> after = NewSavedMapBackend(room.sequence);
+  ASSERT_TRUE(after->LoadMap(room.map).ok());
   ASSERT_NO_FATAL_FAILURE(RunKeyframes(second, after.get()));
-  std::set<ObjectId> loaded;
-  for (const MapObjectEstimate& o : map.objects) loaded.insert(o.id);
-  std::set<ObjectId> now;
-  for (const MapObjectEstimate& o : after->Objects()) now.insert(o.id);
-  EXPECT_EQ(now, loaded);
-  EXPECT_EQ(after->Statistics().objects, static_cast<int>(loaded.size()));
-  // Every detection went to a loaded object.
-  for (const DetectionAssignment& a : after->Assignments()) {
-    EXPECT_EQ(loaded.count(a.object), 1u) << a.detection;
-  }
-#ifdef SYMBA_SANITIZED
-  // The whole run adds no code path and takes half a minute under ASan +
-  // UBSan; the optimised build compares with it.
-  GTEST_SKIP() << "the comparison with the whole run is the optimised build's";
-#endif
-  std::unique_ptr<Backend> whole = NewSavedMapBackend(sequence);
-  ASSERT_NO_FATAL_FAILURE(RunKeyframes(sequence.keyframes, whole.get()));
-  const double from_map = SecondHalfRmse(sequence, after->Keyframes(), half);
-  const double at_once = SecondHalfRmse(sequence, whole->Keyframes(), half);
-  EXPECT_LT(from_map, 1.2 * at_once) << from_map << " vs " << at_once;
+  ExpectOnlyLoadedObjects(room, *after);
+  ExpectAsGoodAsTheWholeRun(room, *after);
 }
 
 // The second half again, its first pose unknown (given as the identity,
 // the rest by odometry alone): the backend relocalises against the first
 // half's map, then estimates in the map's frame.
 TEST(BackendSavedMap, SecondHalfWithItsFirstPoseUnknownRelocalizes) {
-  SimulatedSequence sequence;
-  ASSERT_TRUE(Simulate("room", SimulationOptions(), 3, &sequence).ok());
-  const size_t half = sequence.keyframes.size() / 2;
-  const std::vector<KeyframeInput> first(sequence.keyframes.begin(),
-                                         sequence.keyframes.begin() + half);
-  std::vector<KeyframeInput> second(sequence.keyframes.begin() + half,
-                                    sequence.keyframes.end());
-  std::unique_ptr<Backend> before = NewSavedMapBackend(sequence);
-  ASSERT_NO_FATAL_FAILURE(RunKeyframes(first, before.get()));
-  SavedMap map;
-  ASSERT_TRUE(before->SaveMap(&map).ok());
-
+  SplitRoom room;
+  ASSERT_NO_FATAL_FAILURE(MapTheFirstHalf(&room));
+  std::vector<KeyframeInput>& second = room.second;
   second.front().T_wc = Rigid3d::Identity();
   second.front().odometry.reset();
   for (size_t k = 1; k < second.size(); ++k) second[k].T_wc.reset();
-  std::unique_ptr<Backend> after = NewSavedMapBackend(sequence);
-  ASSERT_TRUE(after->LoadMap(map, RelocalizationOptions()).ok());
+  std::unique_ptr<Backend> after = NewSavedMapBackend(room.sequence);
+  ASSERT_TRUE(after->LoadMap(room.map, RelocalizationOptions()).ok());
   ASSERT_TRUE(after->Relocalization().has_value());
   EXPECT_EQ(after->Relocalization()->state,
             RelocalizationReport::State::kSearching);
@@ -134,33 +152,27 @@ TEST(BackendSavedMap, SecondHalfWithItsFirstPoseUnknownRelocalizes) {
   EXPECT_GE(report.correspondences.size(), 3u);
   // The run's own frame is the true first pose of the second half, seen
   // from the map's frame (the first half's, whose first pose is true).
-  const Rigid3d& truth = sequence.T_wc_true[half];
+  const Rigid3d& truth = room.sequence.T_wc_true[room.half];
   EXPECT_LT((report.T_map_run.t - truth.t).norm(), 0.1);
   EXPECT_LT(report.T_map_run.q.angularDistance(truth.q), 0.05);
-
-  std::set<ObjectId> loaded;
-  for (const MapObjectEstimate& o : map.objects) loaded.insert(o.id);
-  std::set<ObjectId> now;
-  for (const MapObjectEstimate& o : after->Objects()) now.insert(o.id);
-  EXPECT_EQ(now, loaded);
   // Every keyframe's detections were associated again, each with a loaded
   // object.
+  ExpectOnlyLoadedObjects(room, *after);
   size_t detections = 0;
   for (const KeyframeInput& k : second) detections += k.detections.size();
   EXPECT_EQ(after->Assignments().size(), detections);
-  for (const DetectionAssignment& a : after->Assignments()) {
-    EXPECT_EQ(loaded.count(a.object), 1u) << a.detection;
-  }
   EXPECT_EQ(after->Keyframes().size(), second.size());
-#ifdef SYMBA_SANITIZED
-  GTEST_SKIP() << "the comparison with the whole run is the optimised build's";
-#endif
-  std::unique_ptr<Backend> whole = NewSavedMapBackend(sequence);
-  ASSERT_NO_FATAL_FAILURE(RunKeyframes(sequence.keyframes, whole.get()));
-  // In the map's frame, no alignment.
-  const double from_map = SecondHalfRmse(sequence, after->Keyframes(), half);
-  const double at_once = SecondHalfRmse(sequence, whole->Keyframes(), half);
-  EXPECT_LT(from_map, 1.2 * at_once) << from_map << " vs " << at_once;
+  ExpectAsGoodAsTheWholeRun(room, *after);
+}
+
+// The room's first `keyframes` keyframes, mapped and saved.
+SavedMap MapOfTheStart(const SimulatedSequence& room, int keyframes) {
+  std::unique_ptr<Backend> mapper = NewSavedMapBackend(room);
+  RunKeyframes({room.keyframes.begin(), room.keyframes.begin() + keyframes},
+               mapper.get());
+  SavedMap map;
+  EXPECT_TRUE(mapper->SaveMap(&map).ok());
+  return map;
 }
 
 // A map whose objects are where the run's are not (the room's own map with
@@ -169,11 +181,7 @@ TEST(BackendSavedMap, SecondHalfWithItsFirstPoseUnknownRelocalizes) {
 TEST(BackendSavedMap, RelocalizationGivesUpOnAMapOfAnotherArrangement) {
   SimulatedSequence room;
   ASSERT_TRUE(Simulate("room", SimulationOptions(), 3, &room).ok());
-  std::unique_ptr<Backend> mapper = NewSavedMapBackend(room);
-  ASSERT_NO_FATAL_FAILURE(RunKeyframes(
-      {room.keyframes.begin(), room.keyframes.begin() + 24}, mapper.get()));
-  SavedMap map;
-  ASSERT_TRUE(mapper->SaveMap(&map).ok());
+  SavedMap map = MapOfTheStart(room, 24);
   ASSERT_GE(map.objects.size(), 3u);
   // Each object 3 m further out along its own direction from the centre:
   // the classes are there, the arrangement is not.
@@ -216,11 +224,7 @@ TEST(BackendSavedMap, RelocalizationGivesUpOnAMapOfAnotherArrangement) {
 TEST(BackendSavedMap, GiveUpRelocalizationEndsASearch) {
   SimulatedSequence room;
   ASSERT_TRUE(Simulate("room", SimulationOptions(), 3, &room).ok());
-  std::unique_ptr<Backend> mapper = NewSavedMapBackend(room);
-  ASSERT_NO_FATAL_FAILURE(RunKeyframes(
-      {room.keyframes.begin(), room.keyframes.begin() + 12}, mapper.get()));
-  SavedMap map;
-  ASSERT_TRUE(mapper->SaveMap(&map).ok());
+  const SavedMap map = MapOfTheStart(room, 12);
   std::unique_ptr<Backend> backend = NewSavedMapBackend(room);
   ASSERT_TRUE(backend->LoadMap(map, RelocalizationOptions()).ok());
   ASSERT_NO_FATAL_FAILURE(RunKeyframes(

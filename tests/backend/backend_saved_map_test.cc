@@ -181,33 +181,43 @@ SavedMap MapOfTheStart(const SimulatedSequence& room, int keyframes) {
 TEST(BackendSavedMap, RelocalizationGivesUpOnAMapOfAnotherArrangement) {
   SimulatedSequence room;
   ASSERT_TRUE(Simulate("room", SimulationOptions(), 3, &room).ok());
-  SavedMap map = MapOfTheStart(room, 24);
-  ASSERT_GE(map.objects.size(), 3u);
-  // Each object 3 m further out along its own direction from the centre:
-  // the classes are there, the arrangement is not.
-  for (MapObjectEstimate& o : map.objects) {
-    const Eigen::Vector3d out(3.0 * o.t_wo.x(), 3.0 * o.t_wo.y(), 0.0);
-    o.t_wo += out;
-    for (Rigid3d& pose : o.poses) pose.t += out;
+  // The room's true objects, each 3 m further out along its own direction
+  // from the centre: the classes are there, the arrangement is not.
+  SavedMap map;
+  for (const SimulatedObject& truth : room.objects) {
+    MapObjectEstimate o;
+    o.id = static_cast<ObjectId>(map.objects.size());
+    o.class_name = truth.class_name;
+    o.symmetry = truth.symmetry;
+    const Eigen::Vector3d out(
+        3.0 * truth.T_wo.t.x(), 3.0 * truth.T_wo.t.y(), 0.0);
+    o.t_wo = truth.T_wo.t + out;
+    o.poses = {Rigid3d(truth.T_wo.q, o.t_wo)};
+    if (truth.symmetry != SymmetryType::kAsymmetric) {
+      o.axis_o = truth.axis_o;
+      o.axis_w = truth.T_wo.q * truth.axis_o;
+    }
+    if (truth.symmetry == SymmetryType::kDiscrete) o.angles = {0.0};
+    map.objects.push_back(o);
   }
 
   std::unique_ptr<Backend> backend = NewSavedMapBackend(room);
   RelocalizationOptions options;
-  options.max_keyframes = 20;
+  options.max_keyframes = 12;
   ASSERT_TRUE(backend->LoadMap(map, options).ok());
   const std::vector<KeyframeInput> keyframes(room.keyframes.begin(),
-                                             room.keyframes.begin() + 24);
+                                             room.keyframes.begin() + 16);
   ASSERT_NO_FATAL_FAILURE(RunKeyframes(keyframes, backend.get()));
   const RelocalizationReport report = *backend->Relocalization();
   EXPECT_EQ(report.state, RelocalizationReport::State::kGaveUp);
-  EXPECT_EQ(report.keyframes, 20);
-  EXPECT_EQ(report.attempts, 20);
+  EXPECT_EQ(report.keyframes, 12);
+  EXPECT_EQ(report.attempts, 12);
   EXPECT_NE(report.last_outcome, "too few candidates");
   EXPECT_FALSE(report.keyframe.has_value());
   // The run's own keyframes and objects: each object where a true one is
   // (the log's frame is the world here), none where the moved map has one.
   EXPECT_EQ(backend->Keyframes().size(), keyframes.size());
-  EXPECT_EQ(backend->Statistics().keyframes, 24);
+  EXPECT_EQ(backend->Statistics().keyframes, 16);
   ASSERT_FALSE(backend->Objects().empty());
   for (const MapObjectEstimate& o : backend->Objects()) {
     double nearest = 1e9;

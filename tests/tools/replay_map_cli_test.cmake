@@ -1,11 +1,11 @@
 cmake_minimum_required(VERSION 3.16)
 # symba replay --map-out / --map-in (docs/map-format.md): a simulated room
 # (36 keyframes) replayed with --map-out writes a map file with its five
-# objects; the same
-# log replayed from that map with --map-in (its poses are in the map's frame
-# up to the front end's drift) writes a complete replay; a map file that is
-# not one is refused with its name, the member and exit 1, and no output;
-# another run through the room relocalises with --relocalize.
+# objects; another run through the room (its poses in the map's frame up to
+# the front ends' drift) replayed from that map with --map-in writes a
+# complete replay, and with --relocalize finds where it is; a map file that
+# is not one is refused with its name, the member and exit 1, and no
+# output.
 # Inputs: SYMBA (the binary), WORK_DIR.
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
@@ -37,7 +37,15 @@ if(NOT count EQUAL 5)
   message(FATAL_ERROR "expected 5 objects in the map, found ${count}")
 endif()
 
-execute_process(COMMAND ${SYMBA} replay ${WORK_DIR}/sim/log.jsonl
+# Another run through the same room (seed 4, 20 keyframes) for the runs
+# from the map.
+execute_process(COMMAND ${SYMBA} simulate --scene room --seed 4
+    --keyframes 20 --out ${WORK_DIR}/sim4
+  RESULT_VARIABLE rc ERROR_VARIABLE stderr)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "simulate failed (${rc}): ${stderr}")
+endif()
+execute_process(COMMAND ${SYMBA} replay ${WORK_DIR}/sim4/log.jsonl
     --out ${WORK_DIR}/again --map-in ${map} --map-out ${WORK_DIR}/map2.json
     --quiet
   RESULT_VARIABLE rc ERROR_VARIABLE stderr)
@@ -46,14 +54,8 @@ if(NOT rc EQUAL 0 OR NOT EXISTS ${WORK_DIR}/again/objects.json
   message(FATAL_ERROR "replay --map-in failed (${rc}): ${stderr}")
 endif()
 
-# --relocalize: another run through the same room (seed 4) finds where it
-# is from the map's objects and says so on stderr and in summary.json.
-execute_process(COMMAND ${SYMBA} simulate --scene room --seed 4
-    --keyframes 20 --out ${WORK_DIR}/sim4
-  RESULT_VARIABLE rc ERROR_VARIABLE stderr)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "simulate failed (${rc}): ${stderr}")
-endif()
+# --relocalize: the same run finds where it is from the map's objects and
+# says so on stderr and in summary.json.
 execute_process(COMMAND ${SYMBA} replay ${WORK_DIR}/sim4/log.jsonl
     --out ${WORK_DIR}/reloc --map-in ${map} --relocalize
   RESULT_VARIABLE rc ERROR_VARIABLE stderr)

@@ -11,9 +11,8 @@
 
 namespace symba {
 namespace io_internal {
-namespace {
 
-void Pose(const Rigid3d& T, JsonWriter* json) {
+void WritePose(const Rigid3d& T, JsonWriter* json) {
   // Normalised only if it is not unit already (to the reader's 8 eps):
   // normalising again may change the last bit, and a map read and written
   // again must keep its bytes.
@@ -27,6 +26,8 @@ void Pose(const Rigid3d& T, JsonWriter* json) {
   json->Key("q").Doubles(coeffs, 4);
   json->EndObject();
 }
+
+namespace {
 
 // Covariances are written with 6 significant digits: Ceres orders the
 // blocks of a covariance by their addresses, so the last digits differ
@@ -82,7 +83,7 @@ void WriteObjectRecordImpl(const MapObjectEstimate& o, JsonWriter* json) {
                                 static_cast<int>(o.angles.size()));
   }
   json->Key("poses").BeginArray();
-  for (const Rigid3d& pose : o.poses) Pose(pose, json);
+  for (const Rigid3d& pose : o.poses) WritePose(pose, json);
   json->EndArray().Member("observations", o.observations);
   if (o.covariance) Covariance(*o.covariance, json);
   if (o.upgrade) {

@@ -22,6 +22,9 @@ namespace io_internal {
 
 void WriteObjectRecord(const MapObjectEstimate& object, JsonWriter* json);
 
+// A pose as the records hold it: {"t": [x, y, z], "q": [qx, qy, qz, qw]}.
+void WritePose(const Rigid3d& T, JsonWriter* json);
+
 // Reads the record at `object` (an entry of an "objects" array at `where`).
 // axis_o is derived from the first pose and the axis (symmetric objects).
 Status ReadObjectRecord(const JsonTreeReader& r,

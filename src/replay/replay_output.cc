@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "io/json_writer.h"
+#include "io/object_record.h"
 #include "symba/backend/backend_option_table.h"
 
 namespace symba {
@@ -125,13 +126,9 @@ void WriteRelocalization(const RelocalizationReport& r, JsonWriter* json) {
       .Member("last_outcome", r.last_outcome)
       .Member("seconds", r.seconds);
   if (r.keyframe) {
-    const Eigen::Quaterniond& q = r.T_map_run.q;
-    const double coeffs[4] = {q.x(), q.y(), q.z(), q.w()};
     json->Member("keyframe", *r.keyframe);
-    json->Key("T_map_log").BeginObject();
-    json->Key("t").Doubles(r.T_map_run.t.data(), 3);
-    json->Key("q").Doubles(coeffs, 4);
-    json->EndObject();
+    json->Key("T_map_log");
+    io_internal::WritePose(r.T_map_run, json);
     json->Member("position_rmse", r.position_rmse);
     json->Key("matched").BeginArray();
     for (const ObjectCorrespondence& c : r.correspondences) {

@@ -119,6 +119,19 @@ void BindEstimates(py::module_& m) {
           "angles",
           [](const MapObjectEstimate& o) { return DoublesToPython(o.angles); })
       .def_property_readonly(
+          "angle_evidence",
+          [](const MapObjectEstimate& o) {
+            return DoublesToPython(o.angle_evidence);
+          },
+          "(K,) discrete: the detections' evidence for each angle (each "
+          "detection shares one unit among the angles its modes went to)")
+      .def_property_readonly(
+          "angle_probabilities",
+          [](const MapObjectEstimate& o) {
+            return DoublesToPython(o.angle_probabilities);
+          },
+          "(K,) discrete: angle_evidence normalised to sum 1")
+      .def_property_readonly(
           "poses",
           [](const MapObjectEstimate& o) {
             return PosesToPython(

@@ -196,6 +196,10 @@ class MapObject:
     @property
     def angles(self) -> Float64Array: ...  # (K,) rad, discrete only
     @property
+    def angle_evidence(self) -> Float64Array: ...  # (K,) discrete only
+    @property
+    def angle_probabilities(self) -> Float64Array: ...  # (K,) sum 1, discrete
+    @property
     def poses(self) -> Float64Array: ...  # (K, 7) T_wo
     @property
     def observations(self) -> int: ...

@@ -249,8 +249,10 @@ MapObjectEstimate Backend::Impl::EstimateOf(const ObjectState& object) const {
   if (object.type == SymmetryType::kDiscrete) {
     for (size_t i = 0; i < object.thetas.size(); ++i) {
       e.angles.push_back(*object.thetas[i]);
+      e.angle_evidence.push_back(object.angle_evidence[i]);
       e.poses.push_back(Rigid3d(object.Rotation(static_cast<int>(i)), e.t_wo));
     }
+    e.angle_probabilities = AngleProbabilities(e.angle_evidence);
   } else {
     e.poses.push_back(Rigid3d(
         SymmetricObjectRotation(object.anchor, object.axis_w(), 0.0), e.t_wo));

@@ -135,6 +135,10 @@ struct ObjectState {
   Eigen::Vector3d a_o = Eigen::Vector3d::Zero();  // object-frame axis
   SymmetryAnchor anchor;
   std::vector<std::unique_ptr<double>> thetas;  // stable addresses
+  // Discrete: per angle, the detections' evidence for it (each detection
+  // shares one unit among the angles its modes went to, by the modes'
+  // hypothesis weights; MapObjectEstimate::angle_evidence).
+  std::vector<double> angle_evidence;
   // In keyframe order. Edges of observations before stale_observations
   // were built for an older type, anchor or noise: under the marginalize
   // and drop policies a rebuild touches the window's observations only,

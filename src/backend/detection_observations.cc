@@ -135,4 +135,21 @@ std::vector<ObjectObservation> MakeSymbaObservations(
   return observations;
 }
 
+std::vector<double> ModeShares(
+    const std::vector<ObjectObservation>& observations) {
+  std::vector<double> shares;
+  shares.reserve(observations.size());
+  double total = 0.0;
+  for (const ObjectObservation& observation : observations) {
+    double weight = 0.0;
+    for (const PoseComponent& c : observation.components) weight += c.weight;
+    shares.push_back(weight);
+    total += weight;
+  }
+  for (double& share : shares) {
+    share = total > 0.0 ? share / total : 1.0 / shares.size();
+  }
+  return shares;
+}
+
 }  // namespace symba::internal

@@ -62,6 +62,12 @@ std::vector<ObjectObservation> MakeSymbaObservations(
     bool merge_modes,
     bool per_angle);
 
+// Each observation's share of its detection: its components' total
+// hypothesis weight over all of theirs (equal shares if that total is not
+// positive). The shares sum to 1.
+std::vector<double> ModeShares(
+    const std::vector<ObjectObservation>& observations);
+
 }  // namespace symba::internal
 
 #endif  // SYMBA_SRC_BACKEND_DETECTION_OBSERVATIONS_H_

@@ -177,11 +177,14 @@ int Backend::Impl::AddSymba(int k,
   std::vector<ObjectObservation> observations = internal::MakeSymbaObservations(
       cat, detection.hypotheses, sqrt_info, options_.merge_modes, per_angle);
   const bool one_mode = observations.size() == 1;
-  for (ObjectObservation& observation : observations) {
+  const std::vector<double> shares = internal::ModeShares(observations);
+  for (size_t i = 0; i < observations.size(); ++i) {
+    ObjectObservation& observation = observations[i];
     observation.keyframe = k;
     internal::SetObservationNoise(detection, options_, &observation);
     if (per_angle) {
       observation.angle = map_.MatchOrAddAngle(o, T_wc, one_mode, &observation);
+      map_.AddAngleEvidence(o, observation.angle, shares[i]);
     }
     edges_.Add(o, std::move(observation));
   }

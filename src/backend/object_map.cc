@@ -176,8 +176,10 @@ void ObjectMap::Load(const MapObjectEstimate& e) {
     object.anchor = SymmetryAnchor::FromObjectRotation(T_wo.q, object.a_o);
     Eigen::Map<Eigen::Vector3d>(object.a_w) = object.anchor.a_w0;
   }
-  for (double angle : e.angles) {
-    object.thetas.push_back(std::make_unique<double>(angle));
+  for (size_t i = 0; i < e.angles.size(); ++i) {
+    object.thetas.push_back(std::make_unique<double>(e.angles[i]));
+    object.angle_evidence.push_back(
+        i < e.angle_evidence.size() ? e.angle_evidence[i] : 0.0);
   }
   FactorRecord record;
   if (e.covariance &&
@@ -248,6 +250,8 @@ void ObjectMap::Upgrade(int o,
     // The asymmetric pose is angle 0; every past observation constrains it.
     object.thetas.push_back(std::make_unique<double>(0.0));
     object.upgrade_observations = static_cast<int>(object.observations.size());
+    // Each earlier detection with an edge saw the object at angle 0.
+    object.angle_evidence.push_back(object.upgrade_observations);
     for (size_t i = graph_->FirstLiveObservation(object);
          i < object.observations.size();
          ++i) {
@@ -300,7 +304,12 @@ int ObjectMap::MatchOrAddAngle(int o,
   }
   object.thetas.push_back(
       std::make_unique<double>(NewAngleTheta(object, R_wo)));
+  object.angle_evidence.push_back(0.0);
   return static_cast<int>(object.thetas.size()) - 1;
+}
+
+void ObjectMap::AddAngleEvidence(int o, int angle, double share) {
+  objects_[o]->angle_evidence[angle] += share;
 }
 
 bool ObjectMap::ReanchorIfDrifted(int o) {

@@ -84,6 +84,9 @@ class ObjectMap {
                       const Rigid3d& T_wc,
                       bool may_fold,
                       ObjectObservation* observation);
+  // Adds `share` of one detection to angle `angle` of discrete object o
+  // (MapObjectEstimate::angle_evidence).
+  void AddAngleEvidence(int o, int angle, double share);
   // A discrete object whose axis drifted beyond reanchor_angle from its
   // anchor gets a new anchor; true if so: its edges must then be rebuilt.
   bool ReanchorIfDrifted(int o);

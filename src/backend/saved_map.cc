@@ -72,6 +72,14 @@ Status ValidateObject(const MapObjectEstimate& o) {
   for (double angle : o.angles) {
     if (!std::isfinite(angle)) return ObjectError(o, "angle is not finite");
   }
+  if (!o.angle_evidence.empty() && o.angle_evidence.size() != o.angles.size()) {
+    return ObjectError(o, "expected no angle evidence or one per angle");
+  }
+  for (double evidence : o.angle_evidence) {
+    if (!(std::isfinite(evidence) && evidence >= 0.0)) {
+      return ObjectError(o, "angle evidence is not a finite number >= 0");
+    }
+  }
   if (o.symmetry != SymmetryType::kAsymmetric &&
       (!Unit(o.axis_w) || !Unit(o.axis_o))) {
     return ObjectError(o, "axis_w and axis_o must be unit vectors");

@@ -81,6 +81,18 @@ void WriteObjectRecordImpl(const MapObjectEstimate& o, JsonWriter* json) {
   if (o.symmetry == SymmetryType::kDiscrete) {
     json->Key("angles").Doubles(o.angles.data(),
                                 static_cast<int>(o.angles.size()));
+    // The probabilities are derived from the evidence (a reader takes the
+    // evidence only), written for readers of objects.json.
+    // An estimate made without evidence (by a caller) has none: zeros.
+    const std::vector<double> evidence =
+        o.angle_evidence.size() == o.angles.size()
+            ? o.angle_evidence
+            : std::vector<double>(o.angles.size(), 0.0);
+    const std::vector<double> probabilities = AngleProbabilities(evidence);
+    json->Key("angle_evidence")
+        .Doubles(evidence.data(), static_cast<int>(evidence.size()));
+    json->Key("angle_probabilities")
+        .Doubles(probabilities.data(), static_cast<int>(probabilities.size()));
   }
   json->Key("poses").BeginArray();
   for (const Rigid3d& pose : o.poses) WritePose(pose, json);
@@ -117,6 +129,44 @@ Status Angles(const JsonTreeReader& r,
     angles->push_back(angle);
   }
   return status;
+}
+
+// "angle_evidence" (optional; a discrete object's, one count >= 0 per
+// angle; absent: zeros).
+Status AngleEvidence(const JsonTreeReader& r,
+                     JsonTree::Index object,
+                     const JsonPath& where,
+                     MapObjectEstimate* o) {
+  const JsonTree::Index array = r.Find(object, "angle_evidence");
+  if (array == 0) {
+    if (o->symmetry == SymmetryType::kDiscrete) {
+      o->angle_evidence.assign(o->angles.size(), 0.0);
+    }
+    return Status::Ok();
+  }
+  const JsonPath path = where.Member("angle_evidence");
+  Status status = r.Array(array, path);
+  if (!status.ok()) return status;
+  if (o->symmetry != SymmetryType::kDiscrete) {
+    return r.Fail(path, "only a discrete object has it");
+  }
+  if (r.tree().node(array).size != o->angles.size()) {
+    return r.Fail(path,
+                  "expected " + std::to_string(o->angles.size()) +
+                      " entries, one per angle");
+  }
+  int k = 0;
+  for (JsonTree::Index e = r.tree().node(array).first; e != 0;
+       e = r.tree().node(e).next, ++k) {
+    double evidence = 0.0;
+    status = r.Number(e, path.Element(k), &evidence);
+    if (status.ok() && !(evidence >= 0.0)) {
+      status = r.Fail(path.Element(k), "expected evidence >= 0");
+    }
+    if (!status.ok()) return status;
+    o->angle_evidence.push_back(evidence);
+  }
+  return Status::Ok();
 }
 
 // "poses": a non-empty array of poses.
@@ -338,6 +388,8 @@ Status ReadObjectRecord(const JsonTreeReader& r,
             (o.symmetry == SymmetryType::kDiscrete ? " poses, one per angle"
                                                    : " pose"));
   }
+  if (status.ok()) status = AngleEvidence(r, e, where, &o);
+  if (status.ok()) o.angle_probabilities = AngleProbabilities(o.angle_evidence);
   if (status.ok()) status = ReadCovariance(r, e, where, &o);
   if (status.ok()) status = ReadUpgrade(r, e, where, &o);
   if (!status.ok()) return status;

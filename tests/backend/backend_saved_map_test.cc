@@ -300,6 +300,7 @@ MapObjectEstimate SavedTable(ObjectId id) {
     o.poses.push_back(Rigid3d(
         tilt * Eigen::Quaterniond(Eigen::AngleAxisd(a, o.axis_o)), o.t_wo));
   }
+  o.angle_evidence = {22.5, 7.5};
   o.observations = 30;
   MapObjectCovariance c;
   c.id = id;
@@ -339,6 +340,8 @@ TEST(BackendSavedMap, LoadedObjectsKeepIdsPosesAndCovariances) {
         table.poses[i].q.angularDistance(SavedTable(5).poses[i].q), 0.0, 1e-9);
   }
   EXPECT_NEAR((table.axis_w - SavedTable(5).axis_w).norm(), 0.0, 1e-12);
+  EXPECT_EQ(table.angle_evidence, std::vector<double>({22.5, 7.5}));
+  EXPECT_EQ(table.angle_probabilities, std::vector<double>({0.75, 0.25}));
 
   // Without a solve, the covariances are the loaded priors' own.
   std::vector<MapObjectCovariance> covariances;
@@ -437,6 +440,14 @@ TEST(BackendSavedMap, BadMapsAndLateLoadsChangeNothing) {
   ASSERT_FALSE(status.ok());
   EXPECT_NE(status.message().find("only a discrete object has angles"),
             std::string::npos);
+  SavedMap evidence;
+  evidence.objects = {SavedTable(0)};
+  evidence.objects[0].angle_evidence = {1.0};
+  status = backend->LoadMap(evidence);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("one per angle"), std::string::npos);
+  evidence.objects[0].angle_evidence = {1.0, -1.0};
+  EXPECT_FALSE(backend->LoadMap(evidence).ok());
   EXPECT_TRUE(backend->Objects().empty());
   // Once loaded (an empty map too), never again.
   ASSERT_TRUE(backend->LoadMap(SavedMap()).ok());

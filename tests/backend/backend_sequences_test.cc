@@ -534,6 +534,63 @@ TEST(BackendSequences, AsymmetricObjectUpgradesToDiscreteOnModeFlip) {
   }
 }
 
+// What each angle of the upgraded table got (MapObjectEstimate::
+// angle_evidence), against the generator's truth: keyframes 0 and 2 (mode
+// 0, with edges before the upgrade) count whole for angle 0; the flips of
+// keyframes 1 and 3 (no edge) count nowhere; keyframes 4 and 7 (both modes)
+// share one unit by the modes' inlier weights (dominant 1.0, other 0.8 per
+// hypothesis); keyframes 5 and 6 (one mode each) count whole for theirs.
+TEST(BackendSequences, AngleEvidenceSharesEachDetectionAmongItsModes) {
+  const ScriptedSequence seq = FlipsThenBothModes();
+  BackendOptions options;
+  options.confirm_keyframes = 1;
+  std::unique_ptr<Backend> backend;
+  ASSERT_NO_FATAL_FAILURE(RunSequence(seq, options, &backend));
+  const std::vector<MapObjectEstimate> objects = backend->Objects();
+  ASSERT_EQ(objects.size(), 1u);
+  const MapObjectEstimate& object = objects[0];
+  ASSERT_EQ(object.angles.size(), 2u);
+  ASSERT_EQ(object.angle_evidence.size(), 2u);
+  ASSERT_EQ(object.angle_probabilities.size(), 2u);
+  // The angle that holds each true mode (pi apart, so 8 deg decides).
+  const ScriptedObject truth = Table(SymmetryType::kDiscrete, 2);
+  int angle_of_mode[2] = {-1, -1};
+  for (int i = 0; i < 2; ++i) {
+    for (int m = 0; m < 2; ++m) {
+      const Eigen::Quaterniond R_wo_m =
+          truth.T_wo.q * Rot(truth.axis_o, kPi * m);
+      if (object.poses[i].q.angularDistance(R_wo_m) < kModeTolerance) {
+        angle_of_mode[m] = i;
+      }
+    }
+  }
+  ASSERT_EQ(angle_of_mode[0], 0);  // the asymmetric pose became angle 0
+  ASSERT_EQ(angle_of_mode[1], 1);
+  double expected[2] = {2.0, 0.0};  // keyframes 0 and 2
+  for (size_t k = 4; k < seq.keyframes.size(); ++k) {
+    const testing::ScriptedDetectionTruth& detection =
+        seq.detections[k].front();
+    const std::vector<PoseHypothesis>& hyps =
+        seq.keyframes[k].detections.front().hypotheses;
+    double mode_weight[2] = {0.0, 0.0};
+    for (size_t j = 0; j < hyps.size(); ++j) {
+      const int m = detection.hypothesis_mode[j];
+      if (m >= 0) mode_weight[m] += hyps[j].weight;
+    }
+    for (int m = 0; m < 2; ++m) {
+      expected[angle_of_mode[m]] +=
+          mode_weight[m] / (mode_weight[0] + mode_weight[1]);
+    }
+  }
+  EXPECT_NEAR(expected[0] + expected[1], 6.0, 1e-12);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(object.angle_evidence[i], expected[i], 1e-12) << i;
+    EXPECT_NEAR(object.angle_probabilities[i], expected[i] / 6.0, 1e-12) << i;
+  }
+  // Mode 0 was shown more often: its angle is the likelier.
+  EXPECT_GT(object.angle_probabilities[0], 0.6);
+}
+
 // The same upgrade after the first keyframes were marginalised (window 2:
 // keyframes 0-2 have left when keyframe 4 upgrades): one object, two angles,
 // and the batch solve (which rebuilds the marginalised edges for the new

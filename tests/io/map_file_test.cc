@@ -48,6 +48,7 @@ MapObjectEstimate Table() {
         Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ())),
         o.t_wo));
   }
+  o.angle_evidence = {5.25, 1.75};
   o.observations = 7;
   MapObjectEstimate::Upgrade upgrade;
   upgrade.keyframe = 12;
@@ -81,6 +82,8 @@ TEST(MapFile, RoundTripKeepsEveryValueAndTheBytes) {
   const MapObjectEstimate& table = read.objects[1];
   EXPECT_EQ(table.symmetry, SymmetryType::kDiscrete);
   EXPECT_EQ(table.angles, Table().angles);
+  EXPECT_EQ(table.angle_evidence, Table().angle_evidence);
+  EXPECT_EQ(table.angle_probabilities, std::vector<double>({0.75, 0.25}));
   ASSERT_EQ(table.poses.size(), 2u);
   EXPECT_NEAR((table.axis_o - Eigen::Vector3d::UnitZ()).norm(), 0.0, 1e-15);
   ASSERT_TRUE(table.upgrade.has_value());
@@ -122,6 +125,36 @@ TEST(MapFile, RandomRotationsAndLargeIdsKeepTheirBytes) {
   ASSERT_TRUE(status.ok()) << status.message();
   EXPECT_EQ(read.objects[7].upgrade->keyframe, (int64_t{1} << 40) + 7);
   EXPECT_EQ(FormatMapFile(read), text);
+}
+
+// The evidence is optional: a map without it (written before it existed,
+// or by another tool) reads as zero evidence, uniform probabilities, and
+// the probabilities written are always those of the evidence (a reader
+// never takes them).
+TEST(MapFile, AngleEvidenceIsOptionalAndTheProbabilitiesAreDerived) {
+  std::string text = FormatMapFile(Map());
+  const size_t begin = text.find("\"angle_evidence\"");
+  const size_t end = text.find("\"poses\"", begin);
+  ASSERT_NE(begin, std::string::npos);
+  ASSERT_NE(end, std::string::npos);
+  text.erase(begin, end - begin);
+  SavedMap read;
+  Status status = ParseMapFile(text, "old.json", &read);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(read.objects[1].angle_evidence, std::vector<double>({0.0, 0.0}));
+  EXPECT_EQ(read.objects[1].angle_probabilities,
+            std::vector<double>({0.5, 0.5}));
+  EXPECT_TRUE(read.objects[0].angle_evidence.empty());  // asymmetric
+
+  text = FormatMapFile(Map());
+  const std::string written = "\"angle_probabilities\": [\n        0.75,";
+  const size_t at = text.find(written);
+  ASSERT_NE(at, std::string::npos) << text;
+  text.replace(at, written.size(), "\"angle_probabilities\": [\n        0.1,");
+  status = ParseMapFile(text, "edited.json", &read);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(read.objects[1].angle_probabilities,
+            std::vector<double>({0.75, 0.25}));
 }
 
 TEST(MapFile, EmptyMapIsValid) {
@@ -192,6 +225,16 @@ TEST(MapFile, MalformedFilesAreRefusedWithWhereAndWhy) {
       {"poses per angle",
        Edited("\"angles\": [\n        0.25,", "\"angles\": ["),
        "objects[1].poses: expected 1 poses, one per angle"},
+      {"angle evidence per angle",
+       Edited("\"angle_evidence\": [\n        5.25,", "\"angle_evidence\": ["),
+       "objects[1].angle_evidence: expected 2 entries, one per angle"},
+      {"negative angle evidence",
+       Edited("5.25", "-5.25"),
+       "objects[1].angle_evidence[0]: expected evidence >= 0"},
+      {"angle evidence of an asymmetric object",
+       Edited("\"observations\": 41",
+              "\"observations\": 41, \"angle_evidence\": [1]"),
+       "objects[0].angle_evidence: only a discrete object has it"},
       {"asymmetric rotation covariance",
        Edited("\"rotation_covariance\"", "\"axis_covariance\""),
        "objects[0].axis_covariance: only a symmetric object has one"},

@@ -33,6 +33,7 @@ def test_replay_matches_the_cli(simulated_log, cli, tmp_path):
                                rtol=0, atol=1e-9)
     objects = json.loads((out / "objects.json").read_text())["objects"]
     assert len(objects) == len(result.objects) > 0
+    discrete = 0
     for expected, got in zip(objects, result.objects):
         assert got.id == expected["id"]
         assert got.class_name == expected["class"]
@@ -52,6 +53,16 @@ def test_replay_matches_the_cli(simulated_log, cli, tmp_path):
         np.testing.assert_array_equal(position, position.T)
         assert np.all(np.linalg.eigvalsh(position) > 0)
         assert got.covariance["source"] == expected["covariance_source"]
+        if got.symmetry == "discrete":
+            discrete += 1
+            np.testing.assert_array_equal(got.angle_evidence,
+                                          expected["angle_evidence"])
+            np.testing.assert_array_equal(got.angle_probabilities,
+                                          expected["angle_probabilities"])
+            assert got.angle_probabilities.sum() == pytest.approx(1.0)
+        else:
+            assert got.angle_evidence.size == 0
+    assert discrete > 0  # the disc scene's table
     expected_rows = read_associations(out / "associations.csv")
     got_rows = [(str(a.keyframe), a.detection, str(a.object), a.symmetry)
                 for a in result.assignments]

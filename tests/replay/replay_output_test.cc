@@ -87,6 +87,7 @@ TEST(ReplayOutputTest, ObjectsJsonHasAxisAndAnglesOnlyWhereTheyApply) {
   table.t_wo = Eigen::Vector3d(0, 1, 0);
   table.axis_w = Eigen::Vector3d(0, 0, 1);
   table.angles = {0.0, 3.0};
+  table.angle_evidence = {3.0, 1.0};
   table.poses = {Rigid3d(Eigen::Quaterniond::Identity(), table.t_wo),
                  Rigid3d(Eigen::Quaterniond::Identity(), table.t_wo)};
   table.observations = 2;
@@ -119,6 +120,9 @@ TEST(ReplayOutputTest, ObjectsJsonHasAxisAndAnglesOnlyWhereTheyApply) {
       "      \"t\": [\n        0.0,\n        1.0,\n        0.0\n      ],\n"
       "      \"axis\": [\n        0.0,\n        0.0,\n        1.0\n      ],\n"
       "      \"angles\": [\n        0.0,\n        3.0\n      ],\n"
+      "      \"angle_evidence\": [\n        3.0,\n        1.0\n      ],\n"
+      "      \"angle_probabilities\": [\n        0.75,\n        0.25\n      "
+      "],\n"
       "      \"poses\": [\n"
       "        {\n"
       "          \"t\": [\n            0.0,\n            1.0,\n            "

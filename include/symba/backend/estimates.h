@@ -32,6 +32,18 @@ struct MapObjectEstimate {
   Eigen::Vector3d axis_w = Eigen::Vector3d::Zero();
   Eigen::Vector3d axis_o = Eigen::Vector3d::Zero();
   std::vector<double> angles;  // discrete: theta_i (rad)
+  // Discrete, one per angle: the detections' evidence for each angle. Every
+  // detection shares one unit among the angles its modes went to, in
+  // proportion to the modes' hypothesis weights; a detection from before
+  // the object became discrete counts whole for angle 0. Summed over the
+  // whole run (and the loaded map's), not only the window.
+  std::vector<double> angle_evidence;
+  // angle_evidence normalised to sum 1 (uniform while it sums to 0): how
+  // the detections divided themselves among the angles. A truly symmetric
+  // object seen by a detector that cannot tell its angles apart has
+  // shares near 1/K; an object whose angle 0 dominates is likely at its
+  // first pose, the others being the detector's flips.
+  std::vector<double> angle_probabilities;
   // One pose (asymmetric), one per angle (discrete), or the representative
   // angle-0 pose (continuous).
   std::vector<Rigid3d> poses;
@@ -50,6 +62,20 @@ struct MapObjectEstimate {
   // "Covariances").
   std::optional<MapObjectCovariance> covariance;
 };
+
+// Evidence normalised to sum 1; uniform while it sums to 0 (an object
+// loaded from a map that kept none). MapObjectEstimate::angle_probabilities.
+inline std::vector<double> AngleProbabilities(
+    const std::vector<double>& evidence) {
+  double total = 0.0;
+  for (double e : evidence) total += e;
+  std::vector<double> probabilities(evidence.size());
+  for (size_t i = 0; i < evidence.size(); ++i) {
+    probabilities[i] =
+        total > 0.0 ? evidence[i] / total : 1.0 / evidence.size();
+  }
+  return probabilities;
+}
 
 struct DetectionAssignment {
   KeyframeId keyframe = 0;

@@ -4,15 +4,19 @@
 // The GIL is held during every Backend call: the backend is not
 // thread-safe, and holding the GIL keeps two Python threads from using one
 // backend at once.
+#include <fstream>
 #include <map>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "bindings.h"
 #include "convert.h"
 #include "estimates.h"
+#include "journaled_backend.h"
 #include "keyframe_arrays.h"
 #include "repr.h"
 #include "symba/backend/backend.h"
@@ -269,33 +273,94 @@ void BindEstimates(py::module_& m) {
       });
 }
 
+namespace {
+
+// A pickle's state: (1, options as (name, value) pairs, log text, map
+// text or None, relocalize, calls); journaled_backend.h.
+py::tuple JournalToPython(const BackendJournal& journal) {
+  py::list options;
+  for (const auto& [name, value] : journal.options) {
+    options.append(py::make_tuple(
+        name, std::visit([](const auto& v) { return py::cast(v); }, value)));
+  }
+  return py::make_tuple(
+      1,
+      options,
+      py::bytes(journal.log),
+      journal.map ? py::object(py::bytes(*journal.map)) : py::none(),
+      journal.relocalize,
+      py::bytes(journal.calls));
+}
+
+OptionValue OptionValueFromPython(const py::handle& value) {
+  if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
+  if (py::isinstance<py::int_>(value)) return value.cast<int>();
+  if (py::isinstance<py::float_>(value)) return value.cast<double>();
+  return value.cast<std::string>();
+}
+
+BackendJournal JournalFromPython(const py::tuple& state) {
+  if (state.size() != 6 || state[0].cast<int>() != 1) {
+    ThrowIfError(Status::Error(
+        "cannot unpickle the Backend: not a state this version of symba "
+        "wrote"));
+  }
+  BackendJournal journal;
+  for (const py::handle& entry : state[1].cast<py::list>()) {
+    const py::tuple pair = entry.cast<py::tuple>();
+    journal.options.emplace_back(pair[0].cast<std::string>(),
+                                 OptionValueFromPython(pair[1]));
+  }
+  journal.log = state[2].cast<std::string>();
+  if (!state[3].is_none()) journal.map = state[3].cast<std::string>();
+  journal.relocalize = state[4].cast<bool>();
+  journal.calls = state[5].cast<std::string>();
+  return journal;
+}
+
+std::string ReadWholeFile(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
 void BindBackend(py::module_& m) {
-  py::class_<Backend, std::unique_ptr<Backend>> backend_class(
+  using J = JournaledBackend;
+  py::class_<J, std::unique_ptr<J>> backend_class(
       m,
       "Backend",
       "The object-SLAM backend (docs/backend.md). Not thread-safe: use one "
-      "backend from one thread.");
+      "backend from one thread. Pickling makes the same calls again in a "
+      "new backend (docs/python.md, Pickling).");
   backend_class
       .def(py::init([](const std::optional<BackendOptions>& options,
                        const std::optional<PinholeIntrinsics>& intrinsics,
-                       const std::map<std::string, ClassPrior>& class_priors) {
-             std::unique_ptr<Backend> backend;
-             ThrowIfError(Backend::Create(options.value_or(BackendOptions()),
-                                          intrinsics,
-                                          class_priors,
-                                          &backend));
+                       const std::map<std::string, ClassPrior>& class_priors,
+                       bool keep_journal) {
+             std::unique_ptr<J> backend;
+             ThrowIfError(J::Create(options.value_or(BackendOptions()),
+                                    intrinsics,
+                                    class_priors,
+                                    keep_journal,
+                                    &backend));
              return backend;
            }),
            py::arg("options") = py::none(),
            py::arg("intrinsics") = py::none(),
            py::arg("class_priors") = std::map<std::string, ClassPrior>(),
+           py::kw_only(),
+           py::arg("keep_journal") = true,
            "Raises symba.Error with BackendOptions.validate's message for "
-           "invalid options.")
+           "invalid options. keep_journal=False saves the memory of every "
+           "accepted keyframe, and the backend can then not be pickled.")
       .def(
           "add_keyframe",
-          [](Backend& backend, const KeyframeInput& keyframe) {
+          [](J& self, const KeyframeInput& keyframe) {
             std::vector<DetectionAssignment> assignments;
-            ThrowIfError(backend.AddKeyframe(keyframe, &assignments));
+            ThrowIfError(self.AddKeyframe(keyframe, &assignments));
             return assignments;
           },
           py::arg("keyframe"),
@@ -303,24 +368,25 @@ void BindBackend(py::module_& m) {
           "order. On an error (symba.Error) nothing is added.")
       .def(
           "optimize_window",
-          [](Backend& backend) {
+          [](J& self) {
             SolveReport report;
-            ThrowIfError(backend.OptimizeWindow(&report));
+            ThrowIfError(self.OptimizeWindow(&report));
             return report;
           },
           "Solves the window (options.window_size keyframes).")
       .def(
           "optimize_batch",
-          [](Backend& backend) {
+          [](J& self) {
             SolveReport report;
-            ThrowIfError(backend.OptimizeBatch(&report));
+            ThrowIfError(self.OptimizeBatch(&report));
             return report;
           },
           "Solves everything but the first keyframe.")
       .def(
           "keyframe",
-          [](const Backend& backend, KeyframeId id) -> py::object {
-            const std::optional<KeyframeEstimate> k = backend.Keyframe(id);
+          [](const J& self, KeyframeId id) -> py::object {
+            const std::optional<KeyframeEstimate> k =
+                self.backend().Keyframe(id);
             if (!k) return py::none();
             return PoseToPython(k->T_wc);
           },
@@ -329,23 +395,24 @@ void BindBackend(py::module_& m) {
           "for an unknown id.")
       .def(
           "object",
-          [](const Backend& backend, ObjectId id) {
-            return backend.Object(id);
-          },
+          [](const J& self, ObjectId id) { return self.backend().Object(id); },
           py::arg("id"),
           "A confirmed map object, or None.")
       .def(
           "keyframes",
-          [](const Backend& backend) {
-            return MakeTrajectory(backend.Keyframes());
+          [](const J& self) {
+            return MakeTrajectory(self.backend().Keyframes());
           },
           "Every keyframe estimate as a Trajectory.")
-      .def("objects", &Backend::Objects, "Every confirmed map object.")
+      .def(
+          "objects",
+          [](const J& self) { return self.backend().Objects(); },
+          "Every confirmed map object.")
       .def(
           "object_covariances",
-          [](Backend& backend) {
+          [](J& self) {
             std::vector<MapObjectCovariance> covariances;
-            ThrowIfError(backend.ObjectCovariances(&covariances));
+            ThrowIfError(self.backend().ObjectCovariances(&covariances));
             py::list out;
             for (const MapObjectCovariance& c : covariances) {
               out.append(CovarianceToPython(c));
@@ -360,9 +427,9 @@ void BindBackend(py::module_& m) {
           "solve's problem is rank deficient.")
       .def(
           "save_map",
-          [](Backend& backend, const std::optional<std::string>& path) {
+          [](J& self, const std::optional<std::string>& path) {
             SavedMap map;
-            ThrowIfError(backend.SaveMap(&map));
+            ThrowIfError(self.backend().SaveMap(&map));
             std::string text = FormatMapFile(map);
             if (path) ThrowIfError(WriteFileAtomically(*path, text));
             return text;
@@ -373,19 +440,21 @@ void BindBackend(py::module_& m) {
           "noise), also written to `path` (atomically) if given.")
       .def(
           "load_map",
-          [](Backend& backend,
+          [](J& self,
              const std::optional<std::string>& path,
              const std::optional<std::string>& text,
              bool relocalize) {
             if (path.has_value() == text.has_value()) {
               ThrowValueError("load_map", "give exactly one of path and text");
             }
-            SavedMap map;
-            ThrowIfError(path ? ReadMapFile(*path, &map)
-                              : ParseMapFile(*text, "<text>", &map));
-            std::optional<RelocalizationOptions> options;
-            if (relocalize) options.emplace();
-            ThrowIfError(backend.LoadMap(map, options));
+            if (path) {
+              SavedMap map;  // the file's errors, named as ReadMapFile does
+              ThrowIfError(ReadMapFile(*path, &map));
+              ThrowIfError(
+                  self.LoadMap(ReadWholeFile(*path), *path, relocalize));
+            } else {
+              ThrowIfError(self.LoadMap(*text, "<text>", relocalize));
+            }
           },
           py::arg("path") = py::none(),
           py::kw_only(),
@@ -400,22 +469,36 @@ void BindBackend(py::module_& m) {
           "on a malformed map (naming the file and member) or after a "
           "keyframe.")
       .def("give_up_relocalization",
-           &Backend::GiveUpRelocalization,
+           &J::GiveUpRelocalization,
            "Ends a search that has not matched: the run goes on in its own "
            "frame without the map (nothing otherwise).")
-      .def("relocalization",
-           &Backend::Relocalization,
-           "A RelocalizationReport, or None without load_map(relocalize="
-           "True).")
-      .def("assignments",
-           &Backend::Assignments,
-           "Every detection's assignment, in input order.")
-      .def("statistics", &Backend::Statistics)
+      .def(
+          "relocalization",
+          [](const J& self) { return self.backend().Relocalization(); },
+          "A RelocalizationReport, or None without load_map(relocalize="
+          "True).")
+      .def(
+          "assignments",
+          [](const J& self) { return self.backend().Assignments(); },
+          "Every detection's assignment, in input order.")
+      .def("statistics",
+           [](const J& self) { return self.backend().Statistics(); })
       .def_property_readonly(
           "options",
-          [](const Backend& backend) { return backend.options(); },
-          "A copy of the options.");
-  DefWithKeyframeArrays<Backend&>(
+          [](const J& self) { return self.backend().options(); },
+          "A copy of the options.")
+      .def(py::pickle(
+          [](const J& self) {
+            BackendJournal journal;
+            ThrowIfError(self.Journal(&journal));
+            return JournalToPython(journal);
+          },
+          [](const py::tuple& state) {
+            std::unique_ptr<J> backend;
+            ThrowIfError(J::Restore(JournalFromPython(state), &backend));
+            return backend;
+          }));
+  DefWithKeyframeArrays<J&>(
       [&](auto function, auto... args) {
         backend_class.def(
             "add_keyframe_arrays",
@@ -425,11 +508,11 @@ void BindBackend(py::module_& m) {
             "keyframe's arrays are converted in C++ and added (the same "
             "arguments and errors as Keyframe.from_arrays).");
       },
-      [](Backend& backend, const KeyframeArrays& arrays) {
+      [](J& self, const KeyframeArrays& arrays) {
         KeyframeInput keyframe;
         FillKeyframe(arrays, keyframe);
         std::vector<DetectionAssignment> assignments;
-        ThrowIfError(backend.AddKeyframe(keyframe, &assignments));
+        ThrowIfError(self.AddKeyframe(keyframe, &assignments));
         return assignments;
       });
 }

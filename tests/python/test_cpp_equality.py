@@ -1,6 +1,7 @@
 """The same sequence gives the same result through Python as through C++."""
 
 import json
+import pickle
 
 import numpy as np
 import pytest
@@ -318,6 +319,25 @@ def test_relocalization_through_python(cli, tmp_path):
     # T_map_run is T_run_w's inverse (the map's frame is the world here).
     found = pose_matrix(report.T_map_run)
     np.testing.assert_allclose(found @ T_run_w, np.eye(4), atol=0.05)
+
+    # Pickled while it searches, the copy relocalises where the original
+    # did, on the same objects (test_pickle.py has the rest).
+    searching = symba.Backend(intrinsics=header.camera,
+                              class_priors=header.classes)
+    searching.load_map(map_path, relocalize=True)
+    for keyframe in keyframes[:2]:
+        searching.add_keyframe(keyframe)
+        searching.optimize_window()
+    copied = pickle.loads(pickle.dumps(searching))
+    assert copied.relocalization().state == "searching"
+    for keyframe in keyframes[2:]:
+        copied.add_keyframe(keyframe)
+        copied.optimize_window()
+    again = copied.relocalization()
+    assert (again.state, again.keyframe) == (report.state, report.keyframe)
+    assert again.correspondences == report.correspondences
+    np.testing.assert_array_equal(copied.keyframes().poses,
+                                  backend.keyframes().poses)
 
     result = symba.replay(second, map_in=map_path, relocalize=True)
     assert result.relocalization.state == "relocalized"

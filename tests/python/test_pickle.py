@@ -1,0 +1,75 @@
+"""Pickling a Backend (docs/python.md, Pickling): the unpickled backend has
+the same state bit for bit and goes on exactly as the original would."""
+
+import copy
+import pickle
+
+import numpy as np
+import pytest
+
+import symba
+
+
+def feed(backend, keyframes):
+    for keyframe in keyframes:
+        backend.add_keyframe(keyframe)
+        backend.optimize_window()
+
+
+def assert_same_state(a, b):
+    ka, kb = a.keyframes(), b.keyframes()
+    np.testing.assert_array_equal(ka.ids, kb.ids)
+    np.testing.assert_array_equal(ka.poses, kb.poses)
+    assert [o.id for o in a.objects()] == [o.id for o in b.objects()]
+    for oa, ob in zip(a.objects(), b.objects()):
+        assert (oa.class_name, oa.symmetry, oa.observations) == (
+            ob.class_name, ob.symmetry, ob.observations)
+        np.testing.assert_array_equal(oa.poses, ob.poses)
+        np.testing.assert_array_equal(oa.angle_evidence, ob.angle_evidence)
+    assert [(x.keyframe, x.detection, x.object) for x in a.assignments()] == [
+        (x.keyframe, x.detection, x.object) for x in b.assignments()]
+    sa, sb = a.statistics(), b.statistics()
+    assert (sa.keyframes, sa.objects, sa.solves, sa.object_upgrades) == (
+        sb.keyframes, sb.objects, sb.solves, sb.object_upgrades)
+
+
+def test_a_pickled_backend_goes_on_as_the_original(simulated_log):
+    header, keyframes = symba.read_log(str(simulated_log))
+    options = symba.BackendOptions(window_size=4, gate_sigmas=4.5,
+                                   keep_history=True)
+    original = symba.Backend(options, header.camera, header.classes)
+    feed(original, keyframes[:13])
+    original.optimize_batch()
+
+    copied = pickle.loads(pickle.dumps(original))
+    assert_same_state(original, copied)
+    assert copied.options.window_size == 4
+    assert copied.options.gate_sigmas == 4.5
+    deep = copy.deepcopy(original)
+    assert_same_state(original, deep)
+
+    feed(original, keyframes[13:])
+    feed(copied, keyframes[13:])
+    assert_same_state(original, copied)
+    # ... and a pickle of the copy is a pickle of the original.
+    assert pickle.dumps(copied) == pickle.dumps(original)
+
+
+def test_a_backend_without_a_journal_refuses_to_be_pickled(simulated_log):
+    header, keyframes = symba.read_log(str(simulated_log))
+    backend = symba.Backend(intrinsics=header.camera, keep_journal=False)
+    feed(backend, keyframes[:2])
+    with pytest.raises(symba.Error, match="keep_journal=False"):
+        pickle.dumps(backend)
+
+
+def test_a_foreign_state_is_refused():
+    state = symba.Backend().__getstate__()
+    restored = symba.Backend.__new__(symba.Backend)
+    with pytest.raises(symba.Error, match="cannot unpickle the Backend"):
+        restored.__setstate__((2,) + state[1:])
+    with pytest.raises(symba.Error, match="unknown option no_such_option"):
+        restored.__setstate__(
+            (1, [("no_such_option", 1)]) + tuple(state[2:]))
+    with pytest.raises(symba.Error, match="too few keyframes"):
+        restored.__setstate__(tuple(state[:5]) + (b"kw",))

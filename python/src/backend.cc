@@ -275,21 +275,18 @@ void BindEstimates(py::module_& m) {
 
 namespace {
 
-// A pickle's state: (1, options as (name, value) pairs, log text, map
-// text or None, relocalize, calls); journaled_backend.h.
+// A pickle's state: (1, options as (name, value) pairs, inputs, [map
+// texts], calls); journaled_backend.h.
 py::tuple JournalToPython(const BackendJournal& journal) {
   py::list options;
   for (const auto& [name, value] : journal.options) {
     options.append(py::make_tuple(
         name, std::visit([](const auto& v) { return py::cast(v); }, value)));
   }
+  py::list maps;
+  for (const std::string& map : journal.maps) maps.append(py::bytes(map));
   return py::make_tuple(
-      1,
-      options,
-      py::bytes(journal.log),
-      journal.map ? py::object(py::bytes(*journal.map)) : py::none(),
-      journal.relocalize,
-      py::bytes(journal.calls));
+      1, options, py::bytes(journal.inputs), maps, py::bytes(journal.calls));
 }
 
 OptionValue OptionValueFromPython(const py::handle& value) {
@@ -299,29 +296,47 @@ OptionValue OptionValueFromPython(const py::handle& value) {
   return value.cast<std::string>();
 }
 
+// Raises symba.Error for anything but a state this version wrote.
 BackendJournal JournalFromPython(const py::tuple& state) {
-  if (state.size() != 6 || state[0].cast<int>() != 1) {
+  BackendJournal journal;
+  bool valid = state.size() == 5;
+  try {
+    valid = valid && py::isinstance<py::int_>(state[0]) &&
+            state[0].cast<int>() == 1;
+    if (valid) {
+      for (const py::handle& entry : state[1].cast<py::list>()) {
+        const py::tuple pair = entry.cast<py::tuple>();
+        if (pair.size() != 2) throw py::cast_error();
+        journal.options.emplace_back(pair[0].cast<std::string>(),
+                                     OptionValueFromPython(pair[1]));
+      }
+      journal.inputs = state[2].cast<py::bytes>();
+      for (const py::handle& map : state[3].cast<py::list>()) {
+        journal.maps.push_back(map.cast<py::bytes>());
+      }
+      journal.calls = state[4].cast<py::bytes>();
+    }
+  } catch (const py::cast_error&) {
+    valid = false;
+  }
+  if (!valid) {
     ThrowIfError(Status::Error(
         "cannot unpickle the Backend: not a state this version of symba "
         "wrote"));
   }
-  BackendJournal journal;
-  for (const py::handle& entry : state[1].cast<py::list>()) {
-    const py::tuple pair = entry.cast<py::tuple>();
-    journal.options.emplace_back(pair[0].cast<std::string>(),
-                                 OptionValueFromPython(pair[1]));
-  }
-  journal.log = state[2].cast<std::string>();
-  if (!state[3].is_none()) journal.map = state[3].cast<std::string>();
-  journal.relocalize = state[4].cast<bool>();
-  journal.calls = state[5].cast<std::string>();
   return journal;
 }
 
-std::string ReadWholeFile(const std::string& path) {
+// The whole file, or an error naming it as the map reader does.
+std::string ReadMapText(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   std::ostringstream text;
   text << file.rdbuf();
+  if (!file || file.bad()) {
+    SavedMap map;
+    ThrowIfError(ReadMapFile(path, &map));  // its message for the failure
+    ThrowIfError(Status::Error(path + ": cannot read"));
+  }
   return text.str();
 }
 
@@ -412,7 +427,7 @@ void BindBackend(py::module_& m) {
           "object_covariances",
           [](J& self) {
             std::vector<MapObjectCovariance> covariances;
-            ThrowIfError(self.backend().ObjectCovariances(&covariances));
+            ThrowIfError(self.ObjectCovariances(&covariances));
             py::list out;
             for (const MapObjectCovariance& c : covariances) {
               out.append(CovarianceToPython(c));
@@ -429,7 +444,7 @@ void BindBackend(py::module_& m) {
           "save_map",
           [](J& self, const std::optional<std::string>& path) {
             SavedMap map;
-            ThrowIfError(self.backend().SaveMap(&map));
+            ThrowIfError(self.SaveMap(&map));
             std::string text = FormatMapFile(map);
             if (path) ThrowIfError(WriteFileAtomically(*path, text));
             return text;
@@ -448,10 +463,7 @@ void BindBackend(py::module_& m) {
               ThrowValueError("load_map", "give exactly one of path and text");
             }
             if (path) {
-              SavedMap map;  // the file's errors, named as ReadMapFile does
-              ThrowIfError(ReadMapFile(*path, &map));
-              ThrowIfError(
-                  self.LoadMap(ReadWholeFile(*path), *path, relocalize));
+              ThrowIfError(self.LoadMap(ReadMapText(*path), *path, relocalize));
             } else {
               ThrowIfError(self.LoadMap(*text, "<text>", relocalize));
             }

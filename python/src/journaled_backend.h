@@ -1,13 +1,13 @@
 // A Backend together with what it was given, so that pickle can make it
 // again (docs/python.md "Pickling"). The Backend holds its window,
 // marginalisation priors, Ceres problem and map in forms that have no file
-// format; what made them does: the options, the camera and class priors (a
-// log header), the map it loaded, every keyframe it accepted (log lines)
-// and every call that changed it, in order. The backend is deterministic,
-// so making a new Backend and making the same calls gives the same state,
-// bit for bit. The cost: the journal keeps every accepted keyframe
-// (keep_journal = false turns that off, and pickling with it), and
-// unpickling takes as long as the run took.
+// format; what made them does: the options, the camera and class priors,
+// every keyframe it accepted, every map it loaded and every other call
+// that changed it, in order. The backend is deterministic, so a new Backend
+// that makes the same calls with the same inputs, bit for bit, has the same
+// state. The cost: the journal keeps every accepted keyframe (keep_journal
+// = false turns that off, and pickling with it), and unpickling takes as
+// long as the run took.
 #ifndef SYMBA_PYTHON_SRC_JOURNALED_BACKEND_H_
 #define SYMBA_PYTHON_SRC_JOURNALED_BACKEND_H_
 
@@ -29,12 +29,15 @@ namespace symba::python {
 struct BackendJournal {
   // Every option of the table (BackendOptionTable) by name.
   std::vector<std::pair<std::string, OptionValue>> options;
-  // A log v1: the header (camera, class priors) and every accepted keyframe.
-  std::string log;
-  std::optional<std::string> map;  // the map file's text it loaded
-  bool relocalize = false;
-  // One letter per call, in order: k AddKeyframe (the log's next keyframe),
-  // w OptimizeWindow, b OptimizeBatch, g GiveUpRelocalization.
+  // The camera, the class priors and every accepted keyframe, each number
+  // as its 8 bytes (journaled_backend.cc, "Encoding"): exact, unlike a
+  // text that a reader would normalise.
+  std::string inputs;
+  std::vector<std::string> maps;  // the map files' texts, in load order
+  // One letter per call, in order: k AddKeyframe (the next keyframe of
+  // `inputs`), w OptimizeWindow, b OptimizeBatch, c ObjectCovariances,
+  // s SaveMap, m / r LoadMap of the next map (r: relocalise),
+  // g GiveUpRelocalization.
   std::string calls;
 };
 
@@ -50,17 +53,20 @@ class JournaledBackend {
   static Status Restore(const BackendJournal& journal,
                         std::unique_ptr<JournaledBackend>* backend);
 
-  Backend& backend() { return *backend_; }
   const Backend& backend() const { return *backend_; }
   bool keeps_journal() const { return keep_journal_; }
 
-  // Backend's calls, recorded when they change the backend. A refused
-  // keyframe or map changes nothing and is not recorded; a solve is
-  // recorded whatever it returned (a failed solve may have moved blocks).
+  // The Backend's calls that can change it (the const ones go to
+  // backend()). A refused keyframe or map changes nothing and is not
+  // recorded; every other call is, whatever it returned (a failed solve
+  // may have moved blocks; covariances and saving a map set the solver's
+  // problem up, which orders its residuals).
   Status AddKeyframe(const KeyframeInput& keyframe,
                      std::vector<DetectionAssignment>* assignments);
   Status OptimizeWindow(SolveReport* report);
   Status OptimizeBatch(SolveReport* report);
+  Status ObjectCovariances(std::vector<MapObjectCovariance>* covariances);
+  Status SaveMap(SavedMap* map);
   // The map file's text (`name` stands for the file in errors).
   Status LoadMap(const std::string& text,
                  const std::string& name,
@@ -72,15 +78,13 @@ class JournaledBackend {
 
  private:
   JournaledBackend() = default;
+  void Record(char call);
 
   std::unique_ptr<Backend> backend_;
   bool keep_journal_ = true;
   BackendOptions options_;
-  std::optional<PinholeIntrinsics> intrinsics_;
-  std::map<std::string, ClassPrior> class_priors_;
-  std::vector<KeyframeInput> keyframes_;
-  std::optional<std::string> map_;
-  bool relocalize_ = false;
+  std::string inputs_;  // encoded: camera, priors, then keyframes
+  std::vector<std::string> maps_;
   std::string calls_;
 };
 

@@ -118,6 +118,7 @@ struct ObjectState {
   // The upgrade a loaded object had in the run that saved it (reported as
   // it was; `upgrade` is this run's).
   std::optional<MapObjectEstimate::Upgrade> loaded_upgrade;
+  int loaded_detections = 0;  // the saved map's observations of it
   // Its detections where the front end alone puts them (detection_noise.h):
   // running sums for the mean position and rotation, and the last one.
   Eigen::Vector3d chain_position_sum = Eigen::Vector3d::Zero();

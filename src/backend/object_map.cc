@@ -170,6 +170,7 @@ void ObjectMap::Load(const MapObjectEstimate& e) {
     ++statistics_->objects;
   }
   object.detections = e.observations;
+  object.loaded_detections = e.observations;
   object.loaded_upgrade = e.upgrade;
   if (e.symmetry != SymmetryType::kAsymmetric) {
     object.a_o = e.axis_o.normalized();
@@ -250,8 +251,10 @@ void ObjectMap::Upgrade(int o,
     // The asymmetric pose is angle 0; every past observation constrains it.
     object.thetas.push_back(std::make_unique<double>(0.0));
     object.upgrade_observations = static_cast<int>(object.observations.size());
-    // Each earlier detection with an edge saw the object at angle 0.
-    object.angle_evidence.push_back(object.upgrade_observations);
+    // Each earlier detection with an edge (and each of a loaded map's, an
+    // asymmetric object's) saw the object at angle 0.
+    object.angle_evidence.push_back(object.upgrade_observations +
+                                    object.loaded_detections);
     for (size_t i = graph_->FirstLiveObservation(object);
          i < object.observations.size();
          ++i) {

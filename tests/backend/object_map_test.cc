@@ -161,6 +161,35 @@ TEST_F(ObjectMapTest, RepeatedFlipsUpgradeAnAsymmetricObject) {
             1e-12);
 }
 
+// An asymmetric object loaded from a map with 40 observations, upgraded
+// before this run gave it an edge: angle 0, its pose, holds the 40 loaded
+// observations as evidence (MapObjectEstimate::angle_evidence); a new angle
+// starts with none, and evidence adds up per angle.
+TEST_F(ObjectMapTest, AnUpgradeCountsTheLoadedObservationsForAngleZero) {
+  Build(BackendOptions());
+  MapObjectEstimate saved;
+  saved.id = 0;
+  saved.class_name = "mug";
+  saved.symmetry = SymmetryType::kAsymmetric;
+  saved.t_wo = Eigen::Vector3d(0, 0, 2);
+  saved.poses = {At(0, 0, 2)};
+  saved.observations = 40;
+  map_->Load(saved);
+  MakeDiscrete(0);
+  const ObjectState& object = *map_->objects()[0];
+  ASSERT_EQ(object.angle_evidence.size(), 1u);
+  EXPECT_EQ(object.angle_evidence[0], 40.0);
+  ObjectObservation turned;
+  turned.T_co_best = Rigid3d(AboutZ(kPi), Eigen::Vector3d(0, 0, 2));
+  const int angle = map_->MatchOrAddAngle(0, Rigid3d(), false, &turned);
+  EXPECT_EQ(angle, 1);
+  ASSERT_EQ(object.angle_evidence.size(), 2u);
+  EXPECT_EQ(object.angle_evidence[1], 0.0);
+  map_->AddAngleEvidence(0, 1, 0.25);
+  map_->AddAngleEvidence(0, 1, 1.0);
+  EXPECT_EQ(object.angle_evidence[1], 1.25);
+}
+
 // A discrete object with angle 0: a detection within gate_angle of it
 // matches it; one turned by pi folds onto it when the class prior says the
 // order is 2 (its rotation turned back by pi); without a prior it opens a

@@ -63,13 +63,57 @@ def test_a_backend_without_a_journal_refuses_to_be_pickled(simulated_log):
         pickle.dumps(backend)
 
 
+def test_inputs_covariances_and_maps_in_any_order_survive(simulated_log):
+    """What a text log would change is kept exactly: quaternions that are
+    unit only to float32 precision, detections without ids, a class prior
+    of unknown order. Calls that set the solver up (covariances, saving a
+    map) and a map loaded after giving up are made again in their
+    order."""
+    header, keyframes = symba.read_log(str(simulated_log))
+    for keyframe in keyframes:
+        pose = keyframe.T_wc
+        if pose is not None:
+            keyframe.T_wc = pose.astype(np.float32).astype(np.float64)
+        for detection in keyframe.detections:
+            detection.id = ""
+    priors = dict(header.classes)
+    priors["unknown"] = symba.ClassPrior("discrete")  # order 0: unknown
+    map_text = symba.Backend(intrinsics=header.camera).save_map()
+    original = symba.Backend(intrinsics=header.camera, class_priors=priors)
+    original.give_up_relocalization()  # nothing to give up yet
+    original.load_map(text=map_text, relocalize=True)
+    for i, keyframe in enumerate(keyframes[:12]):
+        original.add_keyframe(keyframe)
+        if i >= 5:
+            original.object_covariances()
+            original.save_map()
+        original.optimize_window()
+    copied = pickle.loads(pickle.dumps(original))
+    assert_same_state(original, copied)
+    assert copied.relocalization().state == original.relocalization().state
+    for keyframe in keyframes[12:]:
+        for backend in (original, copied):
+            backend.add_keyframe(keyframe)
+            backend.object_covariances()
+            backend.optimize_window()
+    assert_same_state(original, copied)
+    assert pickle.dumps(copied) == pickle.dumps(original)
+
+
 def test_a_foreign_state_is_refused():
     state = symba.Backend().__getstate__()
     restored = symba.Backend.__new__(symba.Backend)
-    with pytest.raises(symba.Error, match="cannot unpickle the Backend"):
-        restored.__setstate__((2,) + state[1:])
+    for bad in [(2,) + state[1:], state[:4], ("1",) + state[1:],
+                (1, "x") + state[2:], (1, [("window_size", "ten")]) +
+                state[2:]]:
+        with pytest.raises(symba.Error, match="cannot unpickle the Backend"):
+            restored.__setstate__(bad)
     with pytest.raises(symba.Error, match="unknown option no_such_option"):
+        restored.__setstate__((1, [("no_such_option", 1)]) + state[2:])
+    with pytest.raises(symba.Error, match="truncated inputs"):
+        restored.__setstate__(state[:4] + (b"kw",))
+    with pytest.raises(symba.Error, match="too few maps"):
+        restored.__setstate__(state[:4] + (b"m",))
+    with pytest.raises(symba.Error, match="truncated inputs"):
         restored.__setstate__(
-            (1, [("no_such_option", 1)]) + tuple(state[2:]))
-    with pytest.raises(symba.Error, match="too few keyframes"):
-        restored.__setstate__(tuple(state[:5]) + (b"kw",))
+            (1, [], state[2][:-3]) + state[3:])

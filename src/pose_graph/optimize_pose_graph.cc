@@ -1,6 +1,7 @@
 #include "symba/pose_graph/optimize_pose_graph.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <numeric>
@@ -15,6 +16,7 @@
 
 #include "io/text_file.h"
 #include "pose_graph/pose_graph_checks.h"
+#include "symba/pose_graph/chordal_initialization.h"
 
 namespace symba {
 namespace {
@@ -58,6 +60,20 @@ class DisjointSets {
  private:
   std::vector<int> parent_;
 };
+
+// The problem's cost with the states set to `poses` (the states are put
+// back after).
+double CostAt(const std::vector<Rigid3d>& poses,
+              std::vector<Rigid3d>* states,
+              ceres::Problem* problem) {
+  std::vector<Rigid3d> kept = *states;
+  *states = poses;
+  double cost = 0.0;
+  problem->Evaluate(
+      ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
+  *states = kept;
+  return cost;
+}
 
 }  // namespace
 
@@ -120,6 +136,7 @@ Status OptimizePoseGraph(const PoseGraphSolveOptions& options,
     int b;
     Rigid3d T_ab;
     Matrix6d sqrt_info;
+    Matrix6d isotropic;  // SE-Sync's weights, for the initialisation
   };
   std::vector<PreparedEdge> prepared;
   prepared.reserve(graph->edges.size());
@@ -144,7 +161,8 @@ Status OptimizePoseGraph(const PoseGraphSolveOptions& options,
     if (!edge.information.isApprox(edge.information.transpose(), 1e-12)) {
       return Status::Error(what + ": information is not symmetric");
     }
-    if (!UpperCholeskyFactor(edge.information, &p.sqrt_info)) {
+    if (!UpperCholeskyFactor(edge.information, &p.sqrt_info) ||
+        !IsotropicInformation(edge.information, &p.isotropic)) {
       return Status::Error(what + ": " +
                            internal::NotPositiveDefinite(edge.information));
     }
@@ -184,6 +202,24 @@ Status OptimizePoseGraph(const PoseGraphSolveOptions& options,
   }
   for (int root = 0; root < n; ++root) {
     if (smallest[root] >= 0 && !anchored[root]) constant[smallest[root]] = true;
+  }
+
+  std::vector<Rigid3d> given;
+  if (options.initialization == PoseGraphInitialization::kChordal) {
+    given = states;
+    std::vector<ChordalEdge> chordal;
+    chordal.reserve(prepared.size());
+    for (const PreparedEdge& p : prepared) {
+      chordal.push_back(
+          {p.a, p.b, p.T_ab, p.isotropic(0, 0), 0.5 * p.isotropic(3, 3)});
+    }
+    const auto start = std::chrono::steady_clock::now();
+    if (!ChordalInitialization(chordal, constant, &states)) {
+      return Status::Error("pose graph: the chordal initialisation failed");
+    }
+    summary->initialization_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+            .count();
   }
 
   // Declared before the problem, which does not own it and must not outlive
@@ -231,6 +267,8 @@ Status OptimizePoseGraph(const PoseGraphSolveOptions& options,
   ceres::Solver::Summary ceres_summary;
   ceres::Solve(solver_options, &problem, &ceres_summary);
   summary->initial_cost = ceres_summary.initial_cost;
+  summary->given_cost = given.empty() ? ceres_summary.initial_cost
+                                      : CostAt(given, &states, &problem);
   summary->final_cost = ceres_summary.final_cost;
   // Ceres records the initial state as iteration 0.
   summary->iterations = ceres_summary.iterations.empty()

@@ -42,6 +42,7 @@ struct ReplayFlags {
   bool quiet = false;
   bool final_batch = false;
   bool g2o_isotropic = false;
+  std::string g2o_initialization = "chordal";
   symba::BackendOptions backend;
 };
 
@@ -168,6 +169,13 @@ CLI::App* AddReplayOptions(CLI::App* app, ReplayFlags* f) {
                 f->g2o_isotropic,
                 "g2o input: replace each edge's information by SE-Sync's "
                 "isotropic one (needed for files with indefinite information)");
+  cmd->add_option("--g2o-initialization",
+                  f->g2o_initialization,
+                  "g2o input: where the solver starts: chordal (rotations "
+                  "by chordal relaxation, then translations, from the "
+                  "measurements alone) or given (the file's vertices)")
+      ->check(CLI::IsMember({"chordal", "given"}))
+      ->capture_default_str();
   cmd->add_option("--bop-out",
                   f->bop_out,
                   "also write the refined object poses per keyframe image "
@@ -261,6 +269,9 @@ int RunPoseGraphReplay(const ReplayFlags& f) {
   symba::PoseGraphSolveSummary summary;
   symba::PoseGraphSolveOptions options;
   options.num_threads = f.backend.num_threads;
+  options.initialization = f.g2o_initialization == "given"
+                               ? symba::PoseGraphInitialization::kGiven
+                               : symba::PoseGraphInitialization::kChordal;
   symba::G2oReadOptions read_options;
   read_options.isotropic_information = f.g2o_isotropic;
   symba::Status status = symba::CheckOutputSparesInputs(f.out, {f.log});

@@ -30,6 +30,7 @@
 #include "symba/geometry/angle.h"
 #include "symba/geometry/rigid3.h"
 #include "symba/io/tum_trajectory.h"
+#include "symba/pose_graph/chordal_initialization.h"
 #include "symba/pose_graph/optimize_pose_graph.h"
 #include "test_support/random.h"
 
@@ -541,6 +542,9 @@ TEST(OptimizePoseGraph, RecoversConsistentGraphWithTheSmallestIdFixed) {
       s.truth.at(100) *
       Rigid3d(random.RotationOfAngle(0.2), Eigen::Vector3d(0.3, 0, 0));
   PoseGraphSolveOptions options;
+  // Levenberg-Marquardt from the perturbed start (the chordal guess of a
+  // noise-free graph is exact already).
+  options.initialization = PoseGraphInitialization::kGiven;
   options.function_tolerance = 1e-14;
   options.parameter_tolerance = 1e-14;
   options.gradient_tolerance = 1e-16;
@@ -602,6 +606,7 @@ TEST(OptimizePoseGraph, ReportsTheIterationLimit) {
   testing::TestRandom random(9);
   SyntheticGraph s = MakeSynthetic(random, 30, 0);
   PoseGraphSolveOptions options;
+  options.initialization = PoseGraphInitialization::kGiven;
   options.max_iterations = 1;
   PoseGraphSolveSummary summary;
   const Status status = OptimizePoseGraph(options, &s.graph, &summary);
@@ -734,6 +739,136 @@ TEST(TumTrajectory, FormatsAndWritesRoundTrippableLines) {
 }
 
 // ---------------------------------------------------------------------------
+// The chordal initialisation (symba/pose_graph/chordal_initialization.h).
+
+// The vertices of `s` as a vector in id order, and its edges by index with
+// SE-Sync's weights of their information.
+struct ChordalProblem {
+  std::vector<int64_t> ids;
+  std::vector<Rigid3d> poses;
+  std::vector<ChordalEdge> edges;
+};
+
+ChordalProblem ToChordal(const PoseGraph& graph) {
+  ChordalProblem p;
+  std::map<int64_t, int> index;
+  for (const auto& [id, T] : graph.poses) {
+    index[id] = static_cast<int>(p.ids.size());
+    p.ids.push_back(id);
+    p.poses.push_back(T);
+  }
+  for (const PoseGraphEdge& edge : graph.edges) {
+    Matrix6d isotropic;
+    EXPECT_TRUE(IsotropicInformation(edge.information, &isotropic));
+    p.edges.push_back({index.at(edge.from),
+                       index.at(edge.to),
+                       edge.T_ab,
+                       isotropic(0, 0),
+                       0.5 * isotropic(3, 3)});
+  }
+  return p;
+}
+
+// Measurements without noise: the chordal problems' minimum is the truth
+// (every residual zero), whatever the start. Every vertex but the held
+// first starts at a random pose metres and radians away.
+TEST(ChordalInitialization, RecoversANoiseFreeGraphFromAnyStart) {
+  testing::TestRandom random(21);
+  SyntheticGraph s = MakeSynthetic(random, 30, 0);
+  for (auto& [id, T] : s.graph.poses) {
+    if (id != 0) T = RandomPose(random, 5.0);
+  }
+  ChordalProblem p = ToChordal(s.graph);
+  std::vector<bool> held(p.poses.size(), false);
+  held[0] = true;
+  const Rigid3d first = p.poses[0];
+  ASSERT_TRUE(ChordalInitialization(p.edges, held, &p.poses));
+  EXPECT_EQ(p.poses[0].q.coeffs(), first.q.coeffs());  // bit for bit
+  EXPECT_EQ(p.poses[0].t, first.t);
+  for (size_t v = 0; v < p.poses.size(); ++v) {
+    const Rigid3d& truth = s.truth.at(p.ids[v]);
+    EXPECT_LT((p.poses[v].t - truth.t).norm(), 1e-9) << v;
+    EXPECT_LT(p.poses[v].q.angularDistance(truth.q), 1e-9) << v;
+  }
+}
+
+// A component without a held vertex could move as a whole: refused, the
+// poses untouched. A vertex without edges keeps its pose bit for bit.
+TEST(ChordalInitialization, EveryComponentNeedsAHeldVertex) {
+  testing::TestRandom random(22);
+  SyntheticGraph first = MakeSynthetic(random, 8, 0);
+  SyntheticGraph second = MakeSynthetic(random, 8, 50);
+  PoseGraph graph = first.graph;
+  for (const auto& [id, T] : second.graph.poses) graph.poses[id] = T;
+  for (const PoseGraphEdge& e : second.graph.edges) graph.edges.push_back(e);
+  graph.poses[99] = RandomPose(random, 1.0);  // no edges
+  ChordalProblem p = ToChordal(graph);
+  std::vector<bool> held(p.poses.size(), false);
+  held[0] = true;  // vertex 0: the first component only
+  const std::vector<Rigid3d> start = p.poses;
+  EXPECT_FALSE(ChordalInitialization(p.edges, held, &p.poses));
+  for (size_t v = 0; v < p.poses.size(); ++v) {
+    EXPECT_EQ(p.poses[v].t, start[v].t);
+  }
+  held[8] = true;  // vertex 50, the second component's first
+  ASSERT_TRUE(ChordalInitialization(p.edges, held, &p.poses));
+  EXPECT_EQ(p.poses.back().q.coeffs(), start.back().q.coeffs());  // id 99
+  EXPECT_EQ(p.poses.back().t, start.back().t);
+  EXPECT_LT(
+      (p.poses[9].t - start[9].t).norm() + (p.poses[1].t - start[1].t).norm(),
+      1.0);  // moved to the truth, near the mildly perturbed start
+  EXPECT_FALSE(ChordalInitialization({{0, 0, Rigid3d(), 1.0, 1.0}},
+                                     held,
+                                     &p.poses));  // an edge to itself
+}
+
+// kGiven starts where the graph is: the given cost is the initial cost.
+TEST(OptimizePoseGraph, TheGivenInitialisationStartsFromTheGraphsPoses) {
+  testing::TestRandom random(23);
+  SyntheticGraph s = MakeSynthetic(random, 20, 0);
+  PoseGraph chordal_graph = s.graph;
+  PoseGraphSolveOptions options;
+  options.initialization = PoseGraphInitialization::kGiven;
+  PoseGraphSolveSummary given;
+  ASSERT_TRUE(OptimizePoseGraph(options, &s.graph, &given).ok());
+  EXPECT_EQ(given.initial_cost, given.given_cost);
+  EXPECT_EQ(given.initialization_seconds, 0.0);
+  PoseGraphSolveSummary chordal;
+  ASSERT_TRUE(
+      OptimizePoseGraph(PoseGraphSolveOptions(), &chordal_graph, &chordal)
+          .ok());
+  EXPECT_NEAR(chordal.given_cost, given.given_cost, 1e-9 * given.given_cost);
+  EXPECT_LT(chordal.initial_cost, 1e-12);  // noise-free: exact already
+  EXPECT_LT(chordal.final_cost, 1e-16);
+}
+
+// torus3D.g2o: from the file's guess Levenberg-Marquardt stops in a local
+// minimum (22556.19, docs/pose-graphs.md); from the chordal guess it reaches
+// half SE-Sync's certified optimum 2.423e4 (its information is isotropic
+// already), within 0.1 %.
+TEST(Torus3D, ReachesHalfTheCertifiedOptimumFromTheChordalGuess) {
+#ifdef SYMBA_SANITIZED
+  GTEST_SKIP() << "slow under the sanitizers; run by the optimised build";
+#endif
+  PoseGraph graph;
+  const Status read = ReadG2oPoseGraph(DataFile("torus3D.g2o"), &graph);
+  ASSERT_TRUE(read.ok()) << read.message();
+  PoseGraphSolveSummary summary;
+  const Status status =
+      OptimizePoseGraph(PoseGraphSolveOptions(), &graph, &summary);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_TRUE(summary.converged) << summary.message;
+  EXPECT_NEAR(summary.final_cost, 24230.0 / 2.0, 0.001 * 24230.0 / 2.0);
+  EXPECT_GT(summary.given_cost, 1e5);
+  std::printf(
+      "torus3D: given %.6g, chordal %.6g, final %.7g in %d iterations\n",
+      summary.given_cost,
+      summary.initial_cost,
+      summary.final_cost,
+      summary.iterations);
+}
+
+// ---------------------------------------------------------------------------
 // parking-garage.g2o (docs/pose-graphs.md, "Expected cost").
 
 TEST(ParkingGarage, ConvergesToTheCostDerivedFromTheSeSyncOptimum) {
@@ -775,7 +910,9 @@ TEST(ParkingGarage, ConvergesToTheCostDerivedFromTheSeSyncOptimum) {
   status = OptimizePoseGraph(PoseGraphSolveOptions(), &file_graph, &summary);
   ASSERT_TRUE(status.ok()) << status.message();
   EXPECT_TRUE(summary.converged) << summary.message;
-  EXPECT_GT(summary.initial_cost, 8000.0);
+  // The file's guess is far off; the chordal initialisation is close.
+  EXPECT_GT(summary.given_cost, 8000.0);
+  EXPECT_LT(summary.initial_cost, 1.0);
   // Ceres's cost is 1/2 sum e^T Omega e computed without Ceres.
   EXPECT_NEAR(GraphCost(file_graph, file_graph.poses),
               summary.final_cost,

@@ -10,7 +10,14 @@
 
 namespace symba {
 
+// Where Levenberg-Marquardt starts.
+enum class PoseGraphInitialization {
+  kChordal,  // chordal_initialization.h: from the measurements alone
+  kGiven,    // the graph's own poses (a g2o file's vertices)
+};
+
 struct PoseGraphSolveOptions {
+  PoseGraphInitialization initialization = PoseGraphInitialization::kChordal;
   int max_iterations = 100;
   int num_threads = 1;
   // Ceres's convergence tolerances (ceres::Solver::Options).
@@ -23,7 +30,12 @@ struct PoseGraphSolveOptions {
 };
 
 struct PoseGraphSolveSummary {
-  double initial_cost = 0.0;  // 1/2 sum of r^T r, as Ceres reports it
+  // 1/2 sum of r^T r as Ceres reports it, at the given poses and where
+  // Levenberg-Marquardt started (after the chordal initialisation; the same
+  // with kGiven).
+  double given_cost = 0.0;
+  double initial_cost = 0.0;
+  double initialization_seconds = 0.0;  // the chordal initialisation's
   double final_cost = 0.0;
   int iterations = 0;      // Levenberg-Marquardt iterations (accepted or
                            // not), not counting Ceres's iteration 0
@@ -35,7 +47,8 @@ struct PoseGraphSolveSummary {
 };
 
 // Optimises the poses of *graph with Levenberg-Marquardt (sparse normal
-// Cholesky), one PoseGraphEdgeFactor per edge. Gauge: the vertices in
+// Cholesky), one PoseGraphEdgeFactor per edge, from the chordal
+// initialisation (options.initialization) or the graph's own poses. Gauge: the vertices in
 // graph->fixed are held constant; every connected component of the edge
 // graph that contains none of them has its smallest vertex id held
 // constant (for a connected graph without FIX: the smallest id). Vertices

@@ -198,6 +198,92 @@ TEST(PositionGate, CombinesDetectionObjectAndPrediction) {
   EXPECT_DOUBLE_EQ(PositionGate(object, scope, options), 0.5);
 }
 
+// Keyframes with motion variances and chain positions, their prefix sums
+// as Trajectory::AccumulateMotion makes them.
+KeyframeList KeyframesWithMotion(
+    const std::vector<std::pair<double, double>>& variances,
+    const std::vector<Eigen::Vector3d>& positions) {
+  KeyframeList keyframes;
+  KeyframeState::MotionSums sums;
+  for (size_t i = 0; i < variances.size(); ++i) {
+    auto kf = std::make_unique<KeyframeState>();
+    kf->motion_variance_t = variances[i].first;
+    kf->motion_variance_r = variances[i].second;
+    kf->T_wc_chain = Rigid3d(Eigen::Quaterniond::Identity(), positions[i]);
+    sums.t += variances[i].first;
+    sums.r += variances[i].second;
+    sums.r_c += variances[i].second * positions[i];
+    sums.r_cc += variances[i].second * positions[i].squaredNorm();
+    kf->motion_sums = sums;
+    keyframes.push_back(std::move(kf));
+  }
+  return keyframes;
+}
+
+// The prefix sums give the explicit sum over the steps since keyframe j:
+// sum s_t^2 + s_r^2 |c_k - c_i|^2 + d^2 sum s_r^2; one step is
+// prediction_variance's s_t,k^2 + d^2 s_r,k^2.
+TEST(MotionVarianceSince, IsTheSumOverTheStepsSinceTheObjectWasSeen) {
+  const std::vector<std::pair<double, double>> variances = {
+      {0.0, 0.0}, {1e-4, 2e-4}, {4e-4, 1e-4}, {9e-4, 3e-4}, {1e-4, 5e-4}};
+  const std::vector<Eigen::Vector3d> positions = {
+      {100, 50, 1}, {101, 50, 1}, {102, 51, 1}, {102, 53, 2}, {99, 54, 1}};
+  const KeyframeList keyframes = KeyframesWithMotion(variances, positions);
+  const double d2 = 4.0;
+  for (int j = 0; j < 4; ++j) {
+    double expected = 0.0;
+    double rotation = 0.0;
+    for (int i = j + 1; i <= 4; ++i) {
+      expected +=
+          variances[i].first +
+          variances[i].second * (positions[4] - positions[i]).squaredNorm();
+      rotation += variances[i].second;
+    }
+    expected += d2 * rotation;
+    EXPECT_NEAR(MotionVarianceSince(keyframes, j, 4, d2), expected, 1e-12) << j;
+  }
+  EXPECT_NEAR(
+      MotionVarianceSince(keyframes, 3, 4, d2), 1e-4 + d2 * 5e-4, 1e-15);
+}
+
+// A revisit: an object last seen in keyframe 1, detected again in keyframe
+// 4, takes the motion since keyframe 1 and gate_position grows with what it
+// adds to one step; seen in keyframe 3 (the previous), one step only.
+TEST(PositionGate, GrowsWithTheMotionSinceAnObjectWasSeen) {
+  const KeyframeList keyframes = KeyframesWithMotion(
+      {{0.0, 0.0}, {0.01, 0.0}, {0.04, 0.0}, {0.09, 0.0}, {0.01, 0.0}},
+      std::vector<Eigen::Vector3d>(5, Eigen::Vector3d::Zero()));
+  BackendOptions options;
+  options.gate_position = 0.5;
+  options.gate_sigmas = 3.0;
+  ObjectState object;
+  object.observations.resize(1);
+  AssociationScope scope;
+  scope.sigma_t = 0.05;
+  scope.prediction_variance = 0.01;  // keyframe 4's step
+  scope.keyframes = &keyframes;
+  scope.keyframe = 4;
+  object.last_keyframe = 3;
+  EXPECT_NEAR(PositionGate(object, scope, options),
+              3.0 * std::sqrt(0.0025 * 2.0 + 0.01),
+              1e-12);
+  object.last_keyframe = 1;  // + 0.04 + 0.09 since
+  EXPECT_NEAR(PositionGate(object, scope, options),
+              std::min(0.5 + 3.0 * std::sqrt(0.13),
+                       3.0 * std::sqrt(0.0025 * 2.0 + 0.01 + 0.13)),
+              1e-12);
+  object.revisit_anchor = 0;  // an open revisit counts from its anchor
+  object.last_keyframe = 3;
+  EXPECT_NEAR(PositionGate(object, scope, options),
+              3.0 * std::sqrt(0.0025 * 2.0 + 0.01 + 0.14),
+              1e-12);
+  scope.sigma_t.reset();  // unknown noise: gate_position, grown
+  EXPECT_NEAR(
+      PositionGate(object, scope, options), 0.5 + 3.0 * std::sqrt(0.14), 1e-12);
+  scope.keyframes = nullptr;  // revisit_gates off: one step
+  EXPECT_DOUBLE_EQ(PositionGate(object, scope, options), 0.5);
+}
+
 TEST(FindSixDofMatch, GatesPositionRotationClassAndStatus) {
   BackendOptions options;  // gate 0.5 m, 30 deg
   ObjectList objects;

@@ -77,7 +77,6 @@ class BackendOptions:
     confirm_keyframes: int
     tentative_timeout: int
     gate_sigmas: float
-    revisit_gates: bool
     estimate_noise: bool
     noise_window: int
     noise_min_samples: int

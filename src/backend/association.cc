@@ -25,59 +25,20 @@ AssociationScope DetectionScope(const DetectionInput& detection,
                       : estimated_sigma_t;
   scope.prediction_variance =
       kf.motion_variance_t + t_co.squaredNorm() * kf.motion_variance_r;
-  scope.distance2 = t_co.squaredNorm();
   return scope;
 }
-
-double MotionVarianceSince(const KeyframeList& keyframes,
-                           int j,
-                           int k,
-                           double d2) {
-  const KeyframeState::MotionSums& now = keyframes[k]->motion_sums;
-  const KeyframeState::MotionSums& then = keyframes[j]->motion_sums;
-  const Eigen::Vector3d& c_k = keyframes[k]->T_wc_chain.t;
-  const double r = now.r - then.r;
-  // sum s_r,i^2 |c_k - c_i|^2 = |c_k|^2 sum s_r^2 - 2 c_k . sum s_r^2 c_i
-  //                             + sum s_r^2 |c_i|^2
-  const double lever = c_k.squaredNorm() * r -
-                       2.0 * c_k.dot(now.r_c - then.r_c) +
-                       (now.r_cc - then.r_cc);
-  return std::max(0.0, now.t - then.t) + std::max(0.0, lever) +
-         d2 * std::max(0.0, r);
-}
-
-namespace {
-
-// What a revisit adds to the one step of prediction_variance (m^2; 0 for
-// an object seen in this or the previous keyframe, or never).
-double RevisitVariance(const ObjectState& object,
-                       const AssociationScope& scope) {
-  const int j =
-      object.revisit_anchor >= 0 ? object.revisit_anchor : object.last_keyframe;
-  if (scope.keyframes == nullptr || j < 0 || j >= scope.keyframe - 1) {
-    return 0.0;
-  }
-  return std::max(0.0,
-                  MotionVarianceSince(
-                      *scope.keyframes, j, scope.keyframe, scope.distance2) -
-                      scope.prediction_variance);
-}
-
-}  // namespace
 
 double PositionGate(const ObjectState& object,
                     const AssociationScope& scope,
                     const BackendOptions& options) {
-  const double revisit = RevisitVariance(object, scope);
-  const double cap =
-      revisit > 0.0 && options.gate_sigmas > 0.0
-          ? options.gate_position + options.gate_sigmas * std::sqrt(revisit)
-          : options.gate_position;
-  if (!scope.sigma_t || options.gate_sigmas <= 0.0) return cap;
+  if (!scope.sigma_t || options.gate_sigmas <= 0.0) {
+    return options.gate_position;
+  }
   const double n = std::max<size_t>(1, object.observations.size());
   const double variance = *scope.sigma_t * *scope.sigma_t * (1.0 + 1.0 / n) +
-                          scope.prediction_variance + revisit;
-  return std::min(cap, options.gate_sigmas * std::sqrt(variance));
+                          scope.prediction_variance;
+  return std::min(options.gate_position,
+                  options.gate_sigmas * std::sqrt(variance));
 }
 
 int FindSixDofMatch(const ObjectList& objects,

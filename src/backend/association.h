@@ -46,7 +46,6 @@
 namespace symba::internal {
 
 using ObjectList = std::vector<std::unique_ptr<ObjectState>>;
-using KeyframeList = std::vector<std::unique_ptr<KeyframeState>>;
 
 // Angle between two axes, ignoring their signs, in [0, pi/2].
 double AxisDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
@@ -59,26 +58,7 @@ struct AssociationScope {
   // The variance the predicted camera pose adds to the detection's world
   // position (m^2): one step of the camera motion noise at its distance.
   double prediction_variance = 0.0;
-  // For an object last seen before the previous keyframe: the keyframes
-  // (their MotionSums), the detection's keyframe and its squared distance
-  // (m^2), to add the motion noise of every step since (null: one step).
-  const KeyframeList* keyframes = nullptr;
-  int keyframe = -1;
-  double distance2 = 0.0;
 };
-
-// The variance (m^2) the camera motion of keyframes j+1..k adds to a
-// detection in keyframe k at distance d (d2 = d^2) of an object last seen
-// in keyframe j: each step's translation noise, each step's rotation noise
-// at its lever arm to keyframe k (chain positions c_i) and at the object's
-// distance,
-//   sum_{i=j+1..k} s_t,i^2 + s_r,i^2 |c_k - c_i|^2 + d^2 sum s_r,i^2,
-// from the prefix sums in O(1). For j = k - 1 it is one step's,
-// s_t,k^2 + d^2 s_r,k^2 (AssociationScope::prediction_variance).
-double MotionVarianceSince(const KeyframeList& keyframes,
-                           int j,
-                           int k,
-                           double d2);
 
 // The scope of a detection in keyframe `kf` seen at t_co (confirmed
 // objects): the position noise the gates use, the detection's sigma_t (or
@@ -93,12 +73,7 @@ AssociationScope DetectionScope(const DetectionInput& detection,
 
 // The position gate (m) of `object` for a detection in `scope`:
 // min(gate_position, gate_sigmas * sqrt(sigma_t^2 (1 + 1/n) +
-// prediction_variance)) once sigma_t is known, gate_position before. An
-// object last seen before the previous keyframe is a revisit: the motion
-// noise of every step since replaces prediction_variance
-// (MotionVarianceSince), and gate_position grows by gate_sigmas times the
-// root of what that adds, so that a place revisited a little off within the
-// front end's stated noise is associated again.
+// prediction_variance)) once sigma_t is known, gate_position before.
 double PositionGate(const ObjectState& object,
                     const AssociationScope& scope,
                     const BackendOptions& options);

@@ -158,7 +158,6 @@ Status Backend::Impl::Finish(const char* what,
                              const std::chrono::steady_clock::time_point& start,
                              SolveReport* report) {
   ReanchorDriftedObjects();
-  CloseReconciledRevisits();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
@@ -187,36 +186,6 @@ void Backend::Impl::ReanchorDriftedObjects() {
   const int count = static_cast<int>(map_.objects().size());
   for (int o = 0; o < count; ++o) {
     if (map_.ReanchorIfDrifted(o)) edges_.Rebuild(o);
-  }
-}
-
-void Backend::Impl::CloseReconciledRevisits() {
-  const std::vector<int> open = map_.open_revisits();  // closing edits it
-  if (open.empty()) return;
-  const int k = static_cast<int>(trajectory_.keyframes().size()) - 1;
-  const KeyframeState& kf = *trajectory_.keyframes()[k];
-  for (const int o : open) {
-    const ObjectState& object = *map_.objects()[o];
-    if (object.status == internal::ObjectStatus::kDropped) {
-      map_.CloseRevisit(o);
-      continue;
-    }
-    if (object.observations.empty() ||
-        object.observations.back().keyframe != k) {
-      continue;  // not seen (with an edge) in the newest keyframe
-    }
-    const internal::ObjectObservation& observation = object.observations.back();
-    const Eigen::Vector3d& t_co = observation.T_co_best.t;
-    internal::AssociationScope scope;  // no keyframes: the one-step gate
-    scope.sigma_t = observation.claimed_t
-                        ? std::optional<double>(observation.sigma_t)
-                        : edges_.AppliedNoise(object.class_name).sigma_t;
-    scope.prediction_variance =
-        kf.motion_variance_t + t_co.squaredNorm() * kf.motion_variance_r;
-    if ((kf.T_wc() * t_co - object.position()).norm() <=
-        internal::PositionGate(object, scope, options_)) {
-      map_.CloseRevisit(o);
-    }
   }
 }
 

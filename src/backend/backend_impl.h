@@ -84,10 +84,6 @@ class Backend::Impl {
   // Discrete objects whose axis drifted far from their anchor get a new
   // one and their edges rebuilt.
   void ReanchorDriftedObjects();
-  bool WithRevisitGates(internal::AssociationScope* scope) const;
-  // Ends the revisits (ObjectState::revisit_anchor) whose newest detection
-  // the solve put within the one-step gate.
-  void CloseReconciledRevisits();
   MapObjectEstimate EstimateOf(const internal::ObjectState& object) const;
 
   // The parts, each constructed after those it refers to; the trajectory

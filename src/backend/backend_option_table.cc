@@ -208,10 +208,6 @@ void AppendRealDetectorOptions(OptionTable<BackendOptions>* table) {
                           NonNegative(),
                           "position gate in the detection's noise; 0: "
                           "gate_position only"),
-          BoolOption<O>("revisit_gates",
-                        &O::revisit_gates,
-                        "the gates of an object seen again after a while "
-                        "grow with the camera motion noise since"),
           BoolOption<O>("estimate_noise",
                         &O::estimate_noise,
                         "estimate each class's detection noise from the data"),

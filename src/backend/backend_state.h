@@ -56,17 +56,6 @@ struct KeyframeState {
   // predicted pose (m^2, rad^2; 0 without a motion factor).
   double motion_variance_t = 0.0;
   double motion_variance_r = 0.0;
-  // Those variances summed over every keyframe up to this one, with the
-  // rotation's weighted by the chain positions c_i (association.h,
-  // MotionVarianceSince): sum s_t^2, sum s_r^2, sum s_r^2 c_i,
-  // sum s_r^2 |c_i|^2.
-  struct MotionSums {
-    double t = 0.0;
-    double r = 0.0;
-    Eigen::Vector3d r_c = Eigen::Vector3d::Zero();
-    double r_cc = 0.0;
-  };
-  MotionSums motion_sums;
   // Every factor touching this keyframe while it is in the window (freed
   // when it leaves).
   std::vector<int> factors;
@@ -120,10 +109,6 @@ struct ObjectState {
   ObjectStatus status = ObjectStatus::kConfirmed;
   int created_keyframe = -1;  // keyframe index
   int last_keyframe = -1;     // keyframe index of its last detection
-  // A revisit (seen again after a gap): the keyframe index it was last seen
-  // in before the gap, whose camera motion since its gates take, until a
-  // solve puts its newest detection within the one-step gate; -1: none.
-  int revisit_anchor = -1;
   int keyframes_seen = 0;     // distinct keyframes with a detection of it
   int keyframes_in_view = 0;  // keyframes since confirmation it was in view
   int keyframes_seen_in_view = 0;  // ... and was detected in

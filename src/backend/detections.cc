@@ -76,22 +76,17 @@ int Backend::Impl::AddSingleOrMultiHypothesis(int k,
   for (int j : six_dof.used) {
     T_wo_candidates.push_back(T_wc * Normalized(hyps[j].T_co));
   }
-  // The map first, then the tentative objects, then revisits.
+  // The map first, then the tentative objects.
   internal::AssociationScope scope = internal::DetectionScope(
       detection,
       kf,
       six_dof.observation.T_co_best.t,
       edges_.AppliedNoise(detection.class_name).sigma_t,
       options_);
-  scope.keyframe = k;
   int o = internal::FindSixDofMatch(
       map_.objects(), detection.class_name, T_wo_candidates, scope, options_);
   if (o < 0) {
     scope.status = internal::ObjectStatus::kTentative;
-    o = internal::FindSixDofMatch(
-        map_.objects(), detection.class_name, T_wo_candidates, scope, options_);
-  }
-  if (o < 0 && WithRevisitGates(&scope)) {
     o = internal::FindSixDofMatch(
         map_.objects(), detection.class_name, T_wo_candidates, scope, options_);
   }
@@ -114,32 +109,19 @@ int Backend::Impl::AddSingleOrMultiHypothesis(int k,
   return o;
 }
 
-// The last association pass: the confirmed map with the gates of a revisit
-// (association.h, PositionGate), after every object and tentative object
-// failed its one-step gates, so that an object whose revisit stays open
-// never takes a detection that an object in agreement with the camera
-// would take. False (scope unchanged) without revisit_gates.
-bool Backend::Impl::WithRevisitGates(internal::AssociationScope* scope) const {
-  if (!options_.revisit_gates) return false;
-  scope->status = internal::ObjectStatus::kConfirmed;
-  scope->keyframes = &trajectory_.keyframes();
-  return true;
-}
-
 int Backend::Impl::AddSymba(int k,
                             const DetectionInput& detection,
                             const CategorizedDetection& cat,
                             const Matrix6d& sqrt_info) {
   const KeyframeState& kf = *trajectory_.keyframes()[k];
   const Rigid3d T_wc = kf.T_wc();
-  // The map first, then the tentative objects, then revisits.
+  // The map first, then the tentative objects.
   internal::AssociationScope scope = internal::DetectionScope(
       detection,
       kf,
       cat.t_co,
       edges_.AppliedNoise(detection.class_name).sigma_t,
       options_);
-  scope.keyframe = k;
   auto find = [&]() {
     return internal::FindSymbaMatch(map_.objects(),
                                     T_wc,
@@ -155,7 +137,6 @@ int Backend::Impl::AddSymba(int k,
     scope.status = internal::ObjectStatus::kTentative;
     match = find();
   }
-  if (match.object < 0 && WithRevisitGates(&scope)) match = find();
   int o = match.object;
   if (o < 0) {
     o = map_.CreateSymba(detection.class_name, cat, T_wc, k);

@@ -86,11 +86,6 @@ void ObjectMap::NoteDetection(int o,
   ObjectState& object = *objects_[o];
   ++object.detections;
   object.assignments.push_back(assignment);
-  if (options_.revisit_gates && object.revisit_anchor < 0 &&
-      object.last_keyframe >= 0 && object.last_keyframe < k - 1) {
-    object.revisit_anchor = object.last_keyframe;
-    open_revisits_.push_back(o);
-  }
   if (object.last_keyframe != k) {
     object.last_keyframe = k;
     ++object.keyframes_seen;
@@ -99,13 +94,6 @@ void ObjectMap::NoteDetection(int o,
   if (!(distance > 0.0)) return;
   view_cone_cos_ = std::min(view_cone_cos_, t_co.z() / distance);
   view_depth_ = std::max(view_depth_, distance);
-}
-
-void ObjectMap::CloseRevisit(int o) {
-  objects_[o]->revisit_anchor = -1;
-  open_revisits_.erase(
-      std::remove(open_revisits_.begin(), open_revisits_.end(), o),
-      open_revisits_.end());
 }
 
 void ObjectMap::UpdateTentative(int k) {

@@ -58,10 +58,6 @@ class ObjectMap {
   // A detection of object o in keyframe k, reported as assignment a, seen at
   // t_co (its bearing and depth widen the view cone).
   void NoteDetection(int o, int k, int assignment, const Eigen::Vector3d& t_co);
-  // The objects with an open revisit (ObjectState::revisit_anchor), and
-  // closing one.
-  const std::vector<int>& open_revisits() const { return open_revisits_; }
-  void CloseRevisit(int o);
   // Confirms tentative objects with enough keyframes and drops those whose
   // timeout passed (bounded by the tentative objects).
   void UpdateTentative(int k);
@@ -125,7 +121,6 @@ class ObjectMap {
   AxisManifold axis_manifold_;
 
   ObjectList objects_;
-  std::vector<int> open_revisits_;
   std::map<std::string, std::vector<int>> objects_by_class_;
   std::vector<int> tentative_;  // indices
   double view_cone_cos_ = 1.0;  // cos of the widest detection bearing

@@ -43,7 +43,6 @@ int Trajectory::Add(const KeyframeInput& input) {
   graph_->SetManifold(keyframes_[k]->q, &quaternion_manifold_);
   ++statistics_->keyframes;
   AddCameraFactors(k, input);
-  AccumulateMotion(k);
   if (input.T_wc) last_frontend_keyframe_ = k;
   AddPointObservations(k, input);
   return k;
@@ -109,18 +108,6 @@ void Trajectory::AddCameraFactors(int k, const KeyframeInput& input) {
   record.keyframe = k;
   record.keyframe2 = other;
   graph_->Add(std::move(record));
-}
-
-void Trajectory::AccumulateMotion(int k) {
-  KeyframeState& kf = *keyframes_[k];
-  KeyframeState::MotionSums sums;
-  if (k > 0) sums = keyframes_[k - 1]->motion_sums;
-  const Eigen::Vector3d& c = kf.T_wc_chain.t;
-  sums.t += kf.motion_variance_t;
-  sums.r += kf.motion_variance_r;
-  sums.r_c += kf.motion_variance_r * c;
-  sums.r_cc += kf.motion_variance_r * c.squaredNorm();
-  kf.motion_sums = sums;
 }
 
 void Trajectory::AddPointObservations(int k, const KeyframeInput& input) {

@@ -46,8 +46,6 @@ class Trajectory {
   // Where the front end alone puts the keyframe (KeyframeState::T_wc_chain).
   Rigid3d ChainPose(const KeyframeInput& input) const;
   void AddCameraFactors(int k, const KeyframeInput& input);
-  // KeyframeState::motion_sums of keyframe k from k - 1's.
-  void AccumulateMotion(int k);
   void AddPointObservations(int k, const KeyframeInput& input);
 
   const BackendOptions& options_;

@@ -158,11 +158,6 @@ struct BackendOptions {
   // takes a detection only within gate_sigmas * sigma_t * sqrt(1 + 1/n)
   // (and gate_position). 0: gate_position only.
   double gate_sigmas = 5.0;
-  // An object last seen before the previous keyframe is a revisit: its
-  // position gate takes the camera motion noise of every step since
-  // (docs/backend.md "Real detectors", 2), and gate_position grows with
-  // it. false: one step, as for an object seen in the previous keyframe.
-  bool revisit_gates = true;
   // Estimate each class's detection noise from its detections placed with
   // the front end's own poses (the chained odometry, never optimised;
   // robust medians of the last noise_window samples, used from

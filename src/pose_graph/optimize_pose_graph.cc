@@ -75,6 +75,29 @@ double CostAt(const std::vector<Rigid3d>& poses,
   return cost;
 }
 
+// Levenberg-Marquardt starts from the chordal guess where it costs less
+// than the given poses (a graph solved already keeps its start), and from
+// the given poses where the chordal initialisation fails.
+void ChooseChordalStart(const std::vector<ChordalEdge>& edges,
+                        const std::vector<bool>& held,
+                        std::vector<Rigid3d>* states,
+                        ceres::Problem* problem,
+                        PoseGraphSolveSummary* summary) {
+  std::vector<Rigid3d> chordal = *states;
+  const auto start = std::chrono::steady_clock::now();
+  const bool made = ChordalInitialization(edges, held, &chordal);
+  summary->initialization_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
+  if (!made) return;
+  const double cost = CostAt(chordal, states, problem);
+  if (cost < summary->given_cost) {
+    *states = chordal;
+    summary->initial_cost = cost;
+    summary->chordal_start = true;
+  }
+}
+
 }  // namespace
 
 Status PoseGraphSolveOptions::Validate() const {
@@ -204,22 +227,13 @@ Status OptimizePoseGraph(const PoseGraphSolveOptions& options,
     if (smallest[root] >= 0 && !anchored[root]) constant[smallest[root]] = true;
   }
 
-  std::vector<Rigid3d> given;
+  std::vector<ChordalEdge> prepared_chordal;
   if (options.initialization == PoseGraphInitialization::kChordal) {
-    given = states;
-    std::vector<ChordalEdge> chordal;
-    chordal.reserve(prepared.size());
+    prepared_chordal.reserve(prepared.size());
     for (const PreparedEdge& p : prepared) {
-      chordal.push_back(
+      prepared_chordal.push_back(
           {p.a, p.b, p.T_ab, p.isotropic(0, 0), 0.5 * p.isotropic(3, 3)});
     }
-    const auto start = std::chrono::steady_clock::now();
-    if (!ChordalInitialization(chordal, constant, &states)) {
-      return Status::Error("pose graph: the chordal initialisation failed");
-    }
-    summary->initialization_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-            .count();
   }
 
   // Declared before the problem, which does not own it and must not outlive
@@ -248,6 +262,12 @@ Status OptimizePoseGraph(const PoseGraphSolveOptions& options,
     }
   }
 
+  summary->given_cost = CostAt(states, &states, &problem);
+  summary->initial_cost = summary->given_cost;
+  if (options.initialization == PoseGraphInitialization::kChordal) {
+    ChooseChordalStart(prepared_chordal, constant, &states, &problem, summary);
+  }
+
   ceres::Solver::Options solver_options;
   solver_options.minimizer_type = ceres::TRUST_REGION;
   solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
@@ -267,8 +287,6 @@ Status OptimizePoseGraph(const PoseGraphSolveOptions& options,
   ceres::Solver::Summary ceres_summary;
   ceres::Solve(solver_options, &problem, &ceres_summary);
   summary->initial_cost = ceres_summary.initial_cost;
-  summary->given_cost = given.empty() ? ceres_summary.initial_cost
-                                      : CostAt(given, &states, &problem);
   summary->final_cost = ceres_summary.final_cost;
   // Ceres records the initial state as iteration 0.
   summary->iterations = ceres_summary.iterations.empty()

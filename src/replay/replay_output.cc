@@ -258,6 +258,7 @@ std::vector<std::pair<std::string, std::string>> PoseGraphOutputFiles(
       .Member("given_cost", summary.given_cost)
       .Member("initial_cost", summary.initial_cost)
       .Member("initialization_seconds", summary.initialization_seconds)
+      .Member("start", summary.chordal_start ? "chordal" : "given")
       .Member("final_cost", summary.final_cost)
       .Member("iterations", summary.iterations)
       .Member("converged", summary.converged)

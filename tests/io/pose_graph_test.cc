@@ -831,7 +831,7 @@ TEST(OptimizePoseGraph, TheGivenInitialisationStartsFromTheGraphsPoses) {
   options.initialization = PoseGraphInitialization::kGiven;
   PoseGraphSolveSummary given;
   ASSERT_TRUE(OptimizePoseGraph(options, &s.graph, &given).ok());
-  EXPECT_EQ(given.initial_cost, given.given_cost);
+  EXPECT_NEAR(given.initial_cost, given.given_cost, 1e-12 * given.given_cost);
   EXPECT_EQ(given.initialization_seconds, 0.0);
   PoseGraphSolveSummary chordal;
   ASSERT_TRUE(
@@ -840,6 +840,32 @@ TEST(OptimizePoseGraph, TheGivenInitialisationStartsFromTheGraphsPoses) {
   EXPECT_NEAR(chordal.given_cost, given.given_cost, 1e-9 * given.given_cost);
   EXPECT_LT(chordal.initial_cost, 1e-12);  // noise-free: exact already
   EXPECT_LT(chordal.final_cost, 1e-16);
+  EXPECT_TRUE(chordal.chordal_start);
+  EXPECT_FALSE(given.chordal_start);
+}
+
+// A graph solved already (noisy measurements: the optimum is not the
+// chordal guess) keeps its poses as the start, under the default too: a
+// warm start is not thrown away.
+TEST(OptimizePoseGraph, ASolvedGraphKeepsItsStart) {
+  testing::TestRandom random(24);
+  SyntheticGraph s = MakeSynthetic(random, 20, 0);
+  for (PoseGraphEdge& edge : s.graph.edges) {
+    edge.T_ab = edge.T_ab * Rigid3d(random.RotationOfAngle(0.05),
+                                    random.NormalVector(0.05));
+  }
+  PoseGraphSolveSummary first;
+  ASSERT_TRUE(
+      OptimizePoseGraph(PoseGraphSolveOptions(), &s.graph, &first).ok());
+  EXPECT_TRUE(first.chordal_start);
+  EXPECT_GT(first.final_cost, 1e-3);
+  PoseGraphSolveSummary again;
+  ASSERT_TRUE(
+      OptimizePoseGraph(PoseGraphSolveOptions(), &s.graph, &again).ok());
+  EXPECT_FALSE(again.chordal_start);
+  EXPECT_NEAR(again.initial_cost, again.given_cost, 1e-12 * again.given_cost);
+  EXPECT_NEAR(again.initial_cost, first.final_cost, 1e-9 * first.final_cost);
+  EXPECT_LE(again.final_cost, first.final_cost);
 }
 
 // torus3D.g2o: from the file's guess Levenberg-Marquardt stops in a local

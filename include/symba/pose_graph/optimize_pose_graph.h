@@ -12,8 +12,10 @@ namespace symba {
 
 // Where Levenberg-Marquardt starts.
 enum class PoseGraphInitialization {
-  kChordal,  // chordal_initialization.h: from the measurements alone
-  kGiven,    // the graph's own poses (a g2o file's vertices)
+  // chordal_initialization.h: from the measurements alone, where that
+  // costs less than the graph's own poses (a solved graph keeps them)
+  kChordal,
+  kGiven,  // the graph's own poses (a g2o file's vertices)
 };
 
 struct PoseGraphSolveOptions {
@@ -36,6 +38,7 @@ struct PoseGraphSolveSummary {
   double given_cost = 0.0;
   double initial_cost = 0.0;
   double initialization_seconds = 0.0;  // the chordal initialisation's
+  bool chordal_start = false;           // started from the chordal guess
   double final_cost = 0.0;
   int iterations = 0;      // Levenberg-Marquardt iterations (accepted or
                            // not), not counting Ceres's iteration 0

@@ -308,6 +308,15 @@ Backend::Impl& Backend::Run() {
 Status Backend::AddKeyframe(const KeyframeInput& keyframe,
                             std::vector<DetectionAssignment>* assignments) {
   if (Searching()) return relocalizer_->Add(keyframe, assignments);
+  if (relocalizer_ != nullptr && keyframe.T_wc &&
+      relocalizer_->report().state ==
+          RelocalizationReport::State::kRelocalized) {
+    // The run gives its poses in its own frame; after the match this
+    // backend's keyframes are in the map's, as the kept ones were moved.
+    KeyframeInput in_map_frame = keyframe;
+    in_map_frame.T_wc = relocalizer_->report().T_map_run * *keyframe.T_wc;
+    return impl_->AddKeyframe(in_map_frame, assignments);
+  }
   return impl_->AddKeyframe(keyframe, assignments);
 }
 

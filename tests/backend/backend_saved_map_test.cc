@@ -165,6 +165,38 @@ TEST(BackendSavedMap, SecondHalfWithItsFirstPoseUnknownRelocalizes) {
   ExpectAsGoodAsTheWholeRun(room, *after);
 }
 
+// The same with a front end that gives poses instead of odometry, in the
+// run's own frame (its first pose the identity): after the match, the
+// run's later poses are moved into the map's frame like the kept ones, so
+// no keyframe jumps by T_map_run.
+TEST(BackendSavedMap, PosesInTheRunsFrameAfterRelocalisationAreMoved) {
+  SplitRoom room;
+  ASSERT_NO_FATAL_FAILURE(MapTheFirstHalf(&room));
+  std::vector<KeyframeInput>& second = room.second;
+  const Rigid3d T_run_w = second.front().T_wc->Inverse();
+  for (KeyframeInput& k : second) {
+    k.T_wc = T_run_w * *k.T_wc;
+    k.odometry.reset();
+  }
+  std::unique_ptr<Backend> after = NewSavedMapBackend(room.sequence);
+  ASSERT_TRUE(after->LoadMap(room.map, RelocalizationOptions()).ok());
+  ASSERT_NO_FATAL_FAILURE(RunKeyframes(second, after.get()));
+  const RelocalizationReport report = *after->Relocalization();
+  ASSERT_EQ(report.state, RelocalizationReport::State::kRelocalized)
+      << report.last_outcome;
+  // Every keyframe near the truth in the map's frame: the run's own frame
+  // is metres and radians away from it, so a keyframe left there (or
+  // moved twice) would be far off.
+  const double shift =
+      (report.T_map_run.t).norm() +
+      report.T_map_run.q.angularDistance(Eigen::Quaterniond::Identity());
+  ASSERT_GT(shift, 0.5);
+  for (const KeyframeEstimate& e : after->Keyframes()) {
+    EXPECT_LT((e.T_wc.t - room.sequence.T_wc_true[e.id].t).norm(), 0.3) << e.id;
+  }
+  ExpectOnlyLoadedObjects(room, *after);
+}
+
 // The room's first `keyframes` keyframes, mapped and saved.
 SavedMap MapOfTheStart(const SimulatedSequence& room, int keyframes) {
   std::unique_ptr<Backend> mapper = NewSavedMapBackend(room);

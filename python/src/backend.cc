@@ -254,6 +254,9 @@ void BindEstimates(py::module_& m) {
       .def_readonly("solves", &S::solves)
       .def_readonly("solve_seconds", &S::solve_seconds)
       .def_readonly("solve_iterations", &S::solve_iterations)
+      .def_readonly("loop_closures", &S::loop_closures)
+      .def_readonly("loop_closures_moved_past", &S::loop_closures_moved_past)
+      .def_readonly("loop_closure_seconds", &S::loop_closure_seconds)
       .def("__repr__", [](const py::handle& self) {
         return AttributeRepr(self,
                              "BackendStatistics",
@@ -269,7 +272,32 @@ void BindEstimates(py::module_& m) {
                               "ambiguous_edges_dropped",
                               "solves",
                               "solve_seconds",
-                              "solve_iterations"});
+                              "solve_iterations",
+                              "loop_closures"});
+      });
+
+  using L = LoopClosureReport;
+  py::class_<L>(m,
+                "LoopClosureReport",
+                "What one loop closure did (docs/loop-closure.md).")
+      .def_readonly("keyframe", &L::keyframe)
+      .def_readonly("other", &L::other)
+      .def_readonly("moved_past", &L::moved_past)
+      .def_readonly("correction_m", &L::correction_m)
+      .def_readonly("correction_deg", &L::correction_deg)
+      .def_readonly("keyframes_moved", &L::keyframes_moved)
+      .def_readonly("initial_cost", &L::initial_cost)
+      .def_readonly("final_cost", &L::final_cost)
+      .def_readonly("seconds", &L::seconds)
+      .def_readonly("message", &L::message)
+      .def("__repr__", [](const py::handle& self) {
+        return AttributeRepr(self,
+                             "LoopClosureReport",
+                             {"keyframe",
+                              "other",
+                              "moved_past",
+                              "correction_m",
+                              "correction_deg"});
       });
 }
 
@@ -277,6 +305,9 @@ namespace {
 
 // A pickle's state: (1, options as (name, value) pairs, inputs, [map
 // texts], calls); journaled_backend.h.
+// The pickled state's layout: 2 since keyframes carry loop closures.
+constexpr int kJournalVersion = 2;
+
 py::tuple JournalToPython(const BackendJournal& journal) {
   py::list options;
   for (const auto& [name, value] : journal.options) {
@@ -285,8 +316,11 @@ py::tuple JournalToPython(const BackendJournal& journal) {
   }
   py::list maps;
   for (const std::string& map : journal.maps) maps.append(py::bytes(map));
-  return py::make_tuple(
-      1, options, py::bytes(journal.inputs), maps, py::bytes(journal.calls));
+  return py::make_tuple(kJournalVersion,
+                        options,
+                        py::bytes(journal.inputs),
+                        maps,
+                        py::bytes(journal.calls));
 }
 
 OptionValue OptionValueFromPython(const py::handle& value) {
@@ -302,7 +336,7 @@ BackendJournal JournalFromPython(const py::tuple& state) {
   bool valid = state.size() == 5;
   try {
     valid = valid && py::isinstance<py::int_>(state[0]) &&
-            state[0].cast<int>() == 1;
+            state[0].cast<int>() == kJournalVersion;
     if (valid) {
       for (const py::handle& entry : state[1].cast<py::list>()) {
         const py::tuple pair = entry.cast<py::tuple>();
@@ -480,6 +514,24 @@ void BindBackend(py::module_& m) {
           "(relocalization(); docs/relocalization.md). Raises symba.Error "
           "on a malformed map (naming the file and member) or after a "
           "keyframe.")
+      .def(
+          "add_loop_closure",
+          [](J& self, KeyframeId keyframe, const LoopClosureInput& closure) {
+            LoopClosureReport report;
+            ThrowIfError(self.AddLoopClosure(keyframe, closure, &report));
+            return report;
+          },
+          py::arg("keyframe"),
+          py::arg("closure"),
+          "A relative pose the host knows between two keyframes (its own "
+          "loop closure, docs/loop-closure.md): closure.T is `keyframe`'s "
+          "pose in closure.keyframe's frame. If that keyframe left the "
+          "window, the past moves. Returns a LoopClosureReport; raises "
+          "symba.Error on an unknown keyframe or bad numbers.")
+      .def(
+          "loop_closures",
+          [](const J& self) { return self.backend().LoopClosures(); },
+          "Every loop closure so far (LoopClosureReport), in order.")
       .def("give_up_relocalization",
            &J::GiveUpRelocalization,
            "Ends a search that has not matched: the run goes on in its own "

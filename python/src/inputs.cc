@@ -348,6 +348,42 @@ void BindOdometry(py::module_& m) {
         return AttributeRepr(
             self, "Odometry", {"T_prev_cur", "sigma_t", "sigma_r"});
       });
+
+  py::class_<LoopClosureInput>(
+      m,
+      "LoopClosure",
+      "A relative pose the host system knows between an earlier keyframe "
+      "and a later one (its own loop closure, docs/loop-closure.md): T is "
+      "the later keyframe's pose in the earlier one's frame ([tx, ty, tz, "
+      "qx, qy, qz, qw] or 4 x 4), with isotropic sigmas (m, rad).")
+      .def(py::init([](std::int64_t keyframe,
+                       const py::object& T,
+                       double sigma_t,
+                       double sigma_r) {
+             LoopClosureInput closure;
+             closure.keyframe = keyframe;
+             closure.T = PoseFromPython(T, "T");
+             closure.sigma_t = *OptionalFinite(sigma_t, "sigma_t");
+             closure.sigma_r = *OptionalFinite(sigma_r, "sigma_r");
+             return closure;
+           }),
+           py::arg("keyframe"),
+           py::arg("T"),
+           py::arg("sigma_t") = 0.05,
+           py::arg("sigma_r") = 0.02)
+      .def_readwrite("keyframe", &LoopClosureInput::keyframe)
+      .def_property(
+          "T",
+          [](const LoopClosureInput& c) { return PoseToPython(c.T); },
+          [](LoopClosureInput& c, const py::object& value) {
+            c.T = PoseFromPython(value, "T");
+          })
+      .def_readwrite("sigma_t", &LoopClosureInput::sigma_t)
+      .def_readwrite("sigma_r", &LoopClosureInput::sigma_r)
+      .def("__repr__", [](const py::handle& self) {
+        return AttributeRepr(
+            self, "LoopClosure", {"keyframe", "T", "sigma_t", "sigma_r"});
+      });
 }
 
 void BindDetection(py::module_& m) {
@@ -428,7 +464,8 @@ void BindKeyframe(py::module_& m) {
                        std::vector<DetectionInput> detections,
                        const py::object& point_ids,
                        const py::object& point_uv,
-                       const py::object& point_depth) {
+                       const py::object& point_depth,
+                       std::vector<LoopClosureInput> loop_closures) {
              KeyframeInput keyframe;
              keyframe.id = id;
              keyframe.timestamp = *OptionalFinite(timestamp, "timestamp");
@@ -436,6 +473,7 @@ void BindKeyframe(py::module_& m) {
              keyframe.odometry = std::move(odometry);
              keyframe.detections = std::move(detections);
              SetPoints(keyframe, point_ids, point_uv, point_depth);
+             keyframe.loop_closures = std::move(loop_closures);
              return keyframe;
            }),
            py::arg("id"),
@@ -445,7 +483,8 @@ void BindKeyframe(py::module_& m) {
            py::arg("detections") = std::vector<DetectionInput>(),
            py::arg("point_ids") = py::none(),
            py::arg("point_uv") = py::none(),
-           py::arg("point_depth") = py::none())
+           py::arg("point_depth") = py::none(),
+           py::arg("loop_closures") = std::vector<LoopClosureInput>())
       .def_readwrite("id", &KeyframeInput::id)
       .def_readwrite("timestamp", &KeyframeInput::timestamp)
       .def_property(
@@ -466,6 +505,10 @@ void BindKeyframe(py::module_& m) {
                      &KeyframeInput::detections,
                      "A copy of the detections (assign a list to change "
                      "them).")
+      .def_readwrite("loop_closures",
+                     &KeyframeInput::loop_closures,
+                     "A copy of the keyframe's loop closures (LoopClosure; "
+                     "assign a list to change them).")
       .def_property_readonly("point_ids",
                              [](const KeyframeInput& k) {
                                std::vector<std::int64_t> ids;

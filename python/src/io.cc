@@ -58,6 +58,7 @@ struct PyReplayResult {
   SolveReport last_solve;
   double seconds = 0.0;
   std::optional<RelocalizationReport> relocalization;
+  std::vector<LoopClosureReport> loop_closures;
 };
 
 // Binds `f(lead..., const TumImportOptions&)` as the Python function that
@@ -294,6 +295,9 @@ void BindReplay(py::module_& m) {
       .def_readonly("relocalization",
                     &PyReplayResult::relocalization,
                     "A RelocalizationReport with relocalize=True, else None.")
+      .def_readonly("loop_closures",
+                    &PyReplayResult::loop_closures,
+                    "Every loop closure of the log (LoopClosureReport).")
       .def("__repr__", [](const PyReplayResult& r) {
         return "ReplayResult(" +
                symba::CountPhrase(
@@ -353,7 +357,8 @@ void BindReplay(py::module_& m) {
                               result.statistics,
                               result.last_solve,
                               result.seconds,
-                              result.relocalization};
+                              result.relocalization,
+                              std::move(result.loop_closures)};
       },
       py::arg("log_path"),
       py::arg("options") = py::none(),

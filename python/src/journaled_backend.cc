@@ -149,6 +149,22 @@ void DecodeSetup(Decoder* d,
   }
 }
 
+void EncodeLoopClosure(const LoopClosureInput& c, Encoder* e) {
+  e->I64(c.keyframe);
+  e->Pose(c.T);
+  e->F64(c.sigma_t);
+  e->F64(c.sigma_r);
+}
+
+LoopClosureInput DecodeLoopClosure(Decoder* d) {
+  LoopClosureInput c;
+  c.keyframe = d->I64();
+  c.T = d->Pose();
+  c.sigma_t = d->F64();
+  c.sigma_r = d->F64();
+  return c;
+}
+
 void EncodeKeyframe(const KeyframeInput& k, Encoder* e) {
   e->I64(k.id);
   e->F64(k.timestamp);
@@ -180,6 +196,8 @@ void EncodeKeyframe(const KeyframeInput& k, Encoder* e) {
     e->F64(p.uv.y());
     e->OptionalF64(p.depth);
   }
+  e->U64(k.loop_closures.size());
+  for (const LoopClosureInput& c : k.loop_closures) EncodeLoopClosure(c, e);
 }
 
 void DecodeKeyframe(Decoder* d, KeyframeInput* k) {
@@ -220,6 +238,10 @@ void DecodeKeyframe(Decoder* d, KeyframeInput* k) {
     p.depth = d->OptionalF64();
     k->points.push_back(p);
   }
+  const size_t closures = d->Count(8 + 7 * 8 + 16);
+  for (size_t i = 0; i < closures && d->ok(); ++i) {
+    k->loop_closures.push_back(DecodeLoopClosure(d));
+  }
 }
 
 // ---------------------------------------------------------------------------
@@ -233,6 +255,7 @@ constexpr char kSaveMap = 's';
 constexpr char kLoadMap = 'm';
 constexpr char kLoadMapRelocalize = 'r';
 constexpr char kGiveUpRelocalization = 'g';
+constexpr char kAddLoopClosure = 'l';
 
 Status OptionsFromJournal(const BackendJournal& journal,
                           BackendOptions* options) {
@@ -288,6 +311,13 @@ Status MakeCall(char call,
     case kGiveUpRelocalization:
       backend->GiveUpRelocalization();
       return Status::Ok();
+    case kAddLoopClosure: {
+      const KeyframeId keyframe = inputs->I64();
+      const LoopClosureInput closure = DecodeLoopClosure(inputs);
+      if (!inputs->ok()) return Unpickling("truncated inputs");
+      const Status status = backend->AddLoopClosure(keyframe, closure, nullptr);
+      return status.ok() ? status : Unpickling(status.message());
+    }
     default:
       return Unpickling(std::string("unknown call '") + call + "'");
   }
@@ -389,6 +419,19 @@ Status JournaledBackend::LoadMap(const std::string& text,
   if (status.ok() && keep_journal_) {
     maps_.push_back(text);
     Record(relocalize ? kLoadMapRelocalize : kLoadMap);
+  }
+  return status;
+}
+
+Status JournaledBackend::AddLoopClosure(KeyframeId keyframe,
+                                        const LoopClosureInput& closure,
+                                        LoopClosureReport* report) {
+  const Status status = backend_->AddLoopClosure(keyframe, closure, report);
+  if (status.ok() && keep_journal_) {
+    Encoder encoder(&inputs_);
+    encoder.I64(keyframe);
+    EncodeLoopClosure(closure, &encoder);
+    Record(kAddLoopClosure);
   }
   return status;
 }

@@ -37,7 +37,8 @@ struct BackendJournal {
   // One letter per call, in order: k AddKeyframe (the next keyframe of
   // `inputs`), w OptimizeWindow, b OptimizeBatch, c ObjectCovariances,
   // s SaveMap, m / r LoadMap of the next map (r: relocalise),
-  // g GiveUpRelocalization.
+  // g GiveUpRelocalization, l AddLoopClosure (its keyframe id and closure
+  // follow in `inputs`).
   std::string calls;
 };
 
@@ -72,6 +73,9 @@ class JournaledBackend {
                  const std::string& name,
                  bool relocalize);
   void GiveUpRelocalization();
+  Status AddLoopClosure(KeyframeId keyframe,
+                        const LoopClosureInput& closure,
+                        LoopClosureReport* report);
 
   // The journal so far; an error without keep_journal.
   Status Journal(BackendJournal* journal) const;

@@ -82,6 +82,13 @@ Status Backend::Impl::AddKeyframe(
   Status status =
       internal::ValidateKeyframe(input, previous, trajectory_.has_intrinsics());
   if (!status.ok()) return status;
+  for (size_t i = 0; i < input.loop_closures.size(); ++i) {
+    status = CheckLoopClosure(-1,
+                              input.loop_closures[i],
+                              "keyframe " + std::to_string(input.id) +
+                                  ": loop_closures[" + std::to_string(i) + "]");
+    if (!status.ok()) return status;
+  }
   status = CategorizeDetections(input);
   if (!status.ok()) return status;
 
@@ -99,6 +106,11 @@ Status Backend::Impl::AddKeyframe(
     map_.PruneUnsupported(k, keyframes[k]->T_wc());
   }
   if (options_.estimate_noise) UpdateDetectionNoise(input);
+  // Closed after the keyframe's window solve (or at the batch solve): its
+  // pose is a prediction until then.
+  for (const LoopClosureInput& closure : input.loop_closures) {
+    pending_loops_.emplace_back(k, closure);
+  }
   if (assignments != nullptr) {
     assignments->assign(assignments_.begin() + first_assignment,
                         assignments_.end());
@@ -134,10 +146,19 @@ Status Backend::Impl::OptimizeWindow(SolveReport* report) {
   }
   const auto start = std::chrono::steady_clock::now();
   internal::SolveOutcome outcome;
-  graph_.SolveWindow(std::max(0,
-                              static_cast<int>(trajectory_.keyframes().size()) -
-                                  options_.window_size),
-                     &outcome);
+  const int first = std::max(
+      0,
+      static_cast<int>(trajectory_.keyframes().size()) - options_.window_size);
+  graph_.SolveWindow(first, &outcome);
+  if (!pending_loops_.empty()) {
+    ClosePendingLoops();
+    // The window again, from the moved past and with the loop constraints.
+    internal::SolveOutcome again;
+    graph_.SolveWindow(first, &again);
+    again.iterations += outcome.iterations;
+    again.initial_cost = outcome.initial_cost;
+    outcome = again;
+  }
   return Finish("window", outcome, start, report);
 }
 
@@ -146,6 +167,7 @@ Status Backend::Impl::OptimizeBatch(SolveReport* report) {
     return Status::Error("no keyframes to optimise");
   }
   const auto start = std::chrono::steady_clock::now();
+  ClosePendingLoops();
   edges_.RebuildStale();
   internal::SolveOutcome outcome;
   const Status status = graph_.SolveBatch(&outcome);
@@ -392,6 +414,21 @@ std::vector<MapObjectEstimate> Backend::Objects() const {
 
 const std::vector<DetectionAssignment>& Backend::Assignments() const {
   return impl_->assignments_;
+}
+
+const std::vector<LoopClosureReport>& Backend::LoopClosures() const {
+  return Run().loop_closures_;
+}
+
+Status Backend::AddLoopClosure(KeyframeId keyframe,
+                               const LoopClosureInput& closure,
+                               LoopClosureReport* report) {
+  if (Searching()) {
+    return Status::Error(
+        "a loop closure cannot be added while relocalising (give it with "
+        "its keyframe, KeyframeInput::loop_closures)");
+  }
+  return impl_->AddLoopClosure(keyframe, closure, report);
 }
 
 BackendStatistics Backend::Statistics() const { return Run().statistics_; }

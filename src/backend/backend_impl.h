@@ -18,10 +18,12 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "backend/backend_state.h"
 #include "backend/factor_graph.h"
+#include "backend/keyframe_graph.h"
 #include "backend/object_edges.h"
 #include "backend/object_map.h"
 #include "backend/trajectory.h"
@@ -39,6 +41,10 @@ class Backend::Impl {
                      std::vector<DetectionAssignment>* assignments);
   Status OptimizeWindow(SolveReport* report);
   Status OptimizeBatch(SolveReport* report);
+  // A loop closure (loop_closure.cc, docs/loop-closure.md).
+  Status AddLoopClosure(KeyframeId keyframe,
+                        const LoopClosureInput& closure,
+                        LoopClosureReport* report);
 
   std::vector<KeyframeEstimate> Keyframes() const;
   std::vector<MapObjectEstimate> Objects() const;
@@ -56,6 +62,7 @@ class Backend::Impl {
   const std::map<std::string, ClassPrior> class_priors_;
   std::vector<DetectionAssignment> assignments_;
   BackendStatistics statistics_;
+  std::vector<LoopClosureReport> loop_closures_;
 
  private:
   // Detections, per method (detections.cc). CategorizeDetections runs before
@@ -85,6 +92,17 @@ class Backend::Impl {
   // one and their edges rebuilt.
   void ReanchorDriftedObjects();
   MapObjectEstimate EstimateOf(const internal::ObjectState& object) const;
+  // Loop closures (loop_closure.cc). `closure` of keyframe index k, checked
+  // already; `prefix` starts the error messages.
+  Status CheckLoopClosure(int k,
+                          const LoopClosureInput& closure,
+                          const std::string& prefix) const;
+  LoopClosureReport CloseLoop(int k, const LoopClosureInput& closure);
+  // The keyframes' loop closures waiting for their window solve.
+  void ClosePendingLoops();
+  // Every keyframe to corrected[k], and with it every object and point (by
+  // the correction of the last keyframe that saw it) and every prior.
+  void MovePast(const std::vector<Rigid3d>& corrected);
 
   // The parts, each constructed after those it refers to; the trajectory
   // and the object map only keep the graph's address until it exists.
@@ -93,6 +111,8 @@ class Backend::Impl {
   internal::FactorGraph graph_;
   internal::ObjectEdges edges_;
   bool map_loaded_ = false;  // LoadMap succeeded (once per backend)
+  std::vector<internal::LoopConstraint> loops_;
+  std::vector<std::pair<int, LoopClosureInput>> pending_loops_;
   // One categorization per detection of the keyframe being added, reused
   // between keyframes.
   std::vector<CategorizedDetection> categorized_;

@@ -176,6 +176,7 @@ struct PointState {
   // marginalize: its observations from keyframes that left the window, as
   // one prior on p_w (the factor's index; -1: none).
   int prior_factor = -1;
+  int last_keyframe = -1;  // the last keyframe that observed it
 };
 
 // A factor and where it sits. The record owns its cost function; the

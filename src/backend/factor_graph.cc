@@ -235,4 +235,50 @@ void FactorGraph::Solve(int max_iterations,
   outcome->prior_size = size.prior_size;
 }
 
+namespace {
+
+// `prior` on `blocks` moved as `motion_of` says.
+std::unique_ptr<MarginalPriorFactor> MovedPrior(
+    const MarginalPriorFactor& prior,
+    const std::vector<double*>& blocks,
+    const std::function<RigidBlockMotion(const double*)>& motion_of) {
+  std::vector<RigidBlockMotion> motions;
+  motions.reserve(blocks.size());
+  for (const double* block : blocks) motions.push_back(motion_of(block));
+  std::unique_ptr<MarginalPriorFactor> moved;
+  const Status status = MovePriorRigidly(prior, motions, &moved);
+  // The roles come from the blocks' owners, which the priors were made of.
+  SYMBA_CHECK(status.ok()) << status.message();
+  return moved;
+}
+
+}  // namespace
+
+void FactorGraph::MovePriors(
+    const std::function<RigidBlockMotion(const double*)>& motion_of) {
+  if (problem_.prior() != nullptr) {
+    const std::vector<double*> blocks = problem_.prior_blocks();
+    problem_.SetPrior(MovedPrior(*problem_.prior(), blocks, motion_of), blocks);
+  }
+  auto move = [&](int* prior_factor) {
+    if (*prior_factor < 0) return;
+    const FactorRecord& old = problem_.factor(*prior_factor);
+    // A dropped object's prior is retired with it.
+    if (old.retired || old.cost == nullptr) return;
+    const auto* prior =
+        dynamic_cast<const MarginalPriorFactor*>(old.cost.get());
+    SYMBA_CHECK(prior != nullptr) << "an entity's prior is not a prior";
+    FactorRecord record;
+    record.cost = MovedPrior(*prior, old.blocks, motion_of);
+    record.blocks = old.blocks;
+    record.object = old.object;
+    record.point = old.point;
+    record.summary = old.summary;
+    problem_.Retire(*prior_factor);
+    *prior_factor = Add(std::move(record));
+  };
+  for (const auto& object : objects_) move(&object->prior_factor);
+  for (const auto& point : points_) move(&point->prior_factor);
+}
+
 }  // namespace symba::internal

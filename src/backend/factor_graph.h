@@ -10,6 +10,7 @@
 #ifndef SYMBA_SRC_BACKEND_FACTOR_GRAPH_H_
 #define SYMBA_SRC_BACKEND_FACTOR_GRAPH_H_
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,6 +23,7 @@
 #include "backend/window_problem.h"
 #include "symba/backend/backend.h"
 #include "symba/backend/backend_options.h"
+#include "symba/factors/rigidly_moved_prior.h"
 
 namespace symba::internal {
 
@@ -77,6 +79,14 @@ class FactorGraph {
   // Eliminates `blocks` from object o's prior (their information on the
   // object's other blocks stays); nothing if the prior has none of them.
   void RemoveFromObjectPrior(int o, const std::vector<double*>& blocks);
+
+  // Keyframes before this one have left the window.
+  int marginalized_until() const { return marginalized_until_; }
+  // Every prior (the keyframe prior, each object's and point's) is moved
+  // with its blocks (rigidly_moved_prior.h): `motion_of` says how each
+  // block moves. Call it when the blocks themselves are moved so.
+  void MovePriors(
+      const std::function<RigidBlockMotion(const double*)>& motion_of);
 
   // The window solve: keyframes before `first` leave the window, then the
   // window's factors and the priors (marginalize), every factor of what

@@ -22,13 +22,19 @@ Trajectory::Trajectory(const BackendOptions& options,
           std::make_unique<ceres::HuberLoss>(options.point_loss_scale)) {}
 
 const KeyframeState* Trajectory::Find(int64_t id) const {
+  const int k = IndexOf(id);
+  return k < 0 ? nullptr : keyframes_[k].get();
+}
+
+int Trajectory::IndexOf(int64_t id) const {
   const auto it =
       std::lower_bound(keyframes_.begin(),
                        keyframes_.end(),
                        id,
                        [](const std::unique_ptr<KeyframeState>& kf,
                           int64_t value) { return kf->id < value; });
-  return it == keyframes_.end() || (*it)->id != id ? nullptr : it->get();
+  if (it == keyframes_.end() || (*it)->id != id) return -1;
+  return static_cast<int>(it - keyframes_.begin());
 }
 
 int Trajectory::Add(const KeyframeInput& input) {
@@ -130,6 +136,7 @@ void Trajectory::AddPointObservations(int k, const KeyframeInput& input) {
       points_.push_back(std::move(point));
       ++statistics_->points;
     }
+    points_[it->second]->last_keyframe = k;
     FactorRecord record;
     record.cost.reset(
         ReprojectionFactor::Create(*intrinsics_, obs.uv, sqrt_info));

@@ -36,6 +36,8 @@ class Trajectory {
   bool has_intrinsics() const { return intrinsics_.has_value(); }
   // The keyframe with this id, or null (ids are strictly increasing).
   const KeyframeState* Find(int64_t id) const;
+  // The index of the keyframe with this id, or -1.
+  int IndexOf(int64_t id) const;
 
   // Adds a validated keyframe with its camera motion factor and point
   // observations; returns its index.

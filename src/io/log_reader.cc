@@ -3,6 +3,7 @@
 // Each line is parsed into a reused JsonTree (io/json_tree.h) and then
 // validated and converted in one pass. Error paths are only turned into
 // text when an error is reported, so a valid line costs no string building.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -10,6 +11,7 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -232,7 +234,53 @@ struct Previous {
   int64_t id = 0;
   double timestamp = 0.0;
   int line = 0;
+  std::vector<int64_t> ids;  // every keyframe id so far, increasing
 };
+
+// A keyframe's loop closures (the optional key "loop_closures").
+Status ReadLoopClosures(const LineReader& in,
+                        Index closures,
+                        const Path& path,
+                        const Previous& previous,
+                        std::vector<LoopClosureInput>* out) {
+  Status status = in.Array(closures, path);
+  if (!status.ok()) return status;
+  out->resize(in.tree().node(closures).size);
+  int64_t k = 0;
+  for (Index c = in.tree().node(closures).first; c != 0;
+       c = in.tree().node(c).next, ++k) {
+    const Path c_path = path.Element(k);
+    LoopClosureInput& closure = (*out)[k];
+    status = in.Object(c, c_path);
+    if (!status.ok()) return status;
+    Index field = 0;
+    status = in.Require(
+        c, c_path, "keyframe", "the id of an earlier keyframe", &field);
+    if (!status.ok()) return status;
+    status = in.Integer(field, c_path.Member("keyframe"), &closure.keyframe);
+    if (!status.ok()) return status;
+    if (!std::binary_search(
+            previous.ids.begin(), previous.ids.end(), closure.keyframe)) {
+      return in.Fail(c_path.Member("keyframe"),
+                     std::to_string(closure.keyframe) +
+                         " is not the id of an earlier keyframe of this log");
+    }
+    status = in.Require(
+        c, c_path, "T", "this keyframe's pose in that one's frame", &field);
+    if (!status.ok()) return status;
+    status = in.Pose(field, c_path.Member("T"), &closure.T);
+    if (!status.ok()) return status;
+    status = in.Require(c, c_path, "sigma_t", "in metres", &field);
+    if (!status.ok()) return status;
+    status = in.Positive(field, c_path.Member("sigma_t"), &closure.sigma_t);
+    if (!status.ok()) return status;
+    status = in.Require(c, c_path, "sigma_r", "in radians", &field);
+    if (!status.ok()) return status;
+    status = in.Positive(field, c_path.Member("sigma_r"), &closure.sigma_r);
+    if (!status.ok()) return status;
+  }
+  return Status::Ok();
+}
 
 Status ReadDetection(const LineReader& in,
                      Index d,
@@ -437,6 +485,16 @@ Status ReadKeyframe(const LineReader& in,
       }
     }
   }
+
+  keyframe->loop_closures.clear();
+  if (const Index closures = in.Find(0, "loop_closures"); closures != 0) {
+    status = ReadLoopClosures(in,
+                              closures,
+                              root.Member("loop_closures"),
+                              previous,
+                              &keyframe->loop_closures);
+    if (!status.ok()) return status;
+  }
   return Status::Ok();
 }
 
@@ -498,6 +556,7 @@ class LogReader::Impl {
     previous_.id = keyframe->id;
     previous_.timestamp = keyframe->timestamp;
     previous_.line = line_;
+    previous_.ids.push_back(keyframe->id);
     return Status::Ok();
   }
 

@@ -1,6 +1,7 @@
 // LogWriter: the log format v1 (docs/log-format.md). One line per call,
 // built in a reused buffer and written in one piece, after the keyframe has
 // passed the same checks the reader makes.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -8,6 +9,7 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "io/json_writer.h"
 #include "io/text_file.h"
@@ -244,6 +246,7 @@ class LogWriter::Impl {
     has_previous_ = true;
     previous_id_ = keyframe.id;
     previous_timestamp_ = keyframe.timestamp;
+    ids_.push_back(keyframe.id);
     return Status::Ok();
   }
 
@@ -353,6 +356,23 @@ class LogWriter::Impl {
         if (!status.ok()) return status;
       }
     }
+    for (std::size_t c = 0; c < keyframe.loop_closures.size(); ++c) {
+      const LoopClosureInput& closure = keyframe.loop_closures[c];
+      const MemberPath path(nullptr, "loop_closures", c);
+      if (!std::binary_search(ids_.begin(), ids_.end(), closure.keyframe)) {
+        return fail(path.Text() + ".keyframe",
+                    std::to_string(closure.keyframe) +
+                        " is not the id of an earlier keyframe of this log");
+      }
+      status = CheckPose(closure.T, {&path, "T"}, fail);
+      if (status.ok()) {
+        status = CheckPositive(closure.sigma_t, {&path, "sigma_t"}, fail);
+      }
+      if (status.ok()) {
+        status = CheckPositive(closure.sigma_r, {&path, "sigma_r"}, fail);
+      }
+      if (!status.ok()) return status;
+    }
     return Status::Ok();
   }
 
@@ -390,6 +410,17 @@ class LogWriter::Impl {
       }
       json.EndArray();
     }
+    if (!keyframe.loop_closures.empty()) {
+      json.Key("loop_closures").BeginArray();
+      for (const LoopClosureInput& closure : keyframe.loop_closures) {
+        json.BeginObject().Member("keyframe", closure.keyframe).Key("T");
+        Pose(closure.T, &json);
+        json.Member("sigma_t", closure.sigma_t)
+            .Member("sigma_r", closure.sigma_r)
+            .EndObject();
+      }
+      json.EndArray();
+    }
     json.EndObject();
     line_.push_back('\n');
   }
@@ -422,6 +453,7 @@ class LogWriter::Impl {
   bool has_previous_ = false;
   int64_t previous_id_ = 0;
   double previous_timestamp_ = 0.0;
+  std::vector<int64_t> ids_;  // every keyframe written, increasing
   bool closed_ = false;
   Status error_;
 };

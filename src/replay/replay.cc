@@ -114,6 +114,7 @@ Status ReplayLog(const std::string& log_path,
   }
   replay.statistics = backend->Statistics();
   replay.relocalization = backend->Relocalization();
+  replay.loop_closures = backend->LoopClosures();
   replay.noise = backend->Noise();
   if (options.save_map) {
     replay.map.emplace();

@@ -1,5 +1,6 @@
 #include "symba/replay/replay_output.h"
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -9,6 +10,7 @@
 #include "io/json_writer.h"
 #include "io/object_record.h"
 #include "symba/backend/backend_option_table.h"
+#include "symba/io/format_double.h"
 
 namespace symba {
 namespace {
@@ -142,6 +144,33 @@ void WriteRelocalization(const RelocalizationReport& r, JsonWriter* json) {
   json->EndObject();
 }
 
+// "loop_closures": how many the host gave, how many moved the past, and
+// their times (each one is in loop_closures.csv; docs/loop-closure.md).
+void WriteLoopClosures(const std::vector<LoopClosureReport>& loops,
+                       JsonWriter* json) {
+  std::vector<double> seconds;
+  int moved_past = 0;
+  double max_correction_m = 0.0;
+  for (const LoopClosureReport& c : loops) {
+    seconds.push_back(c.seconds);
+    moved_past += c.moved_past ? 1 : 0;
+    max_correction_m = std::max(max_correction_m, c.correction_m);
+  }
+  std::sort(seconds.begin(), seconds.end());
+  const double median = seconds.empty()
+                            ? 0.0
+                            : 0.5 * (seconds[(seconds.size() - 1) / 2] +
+                                     seconds[seconds.size() / 2]);
+  json->Key("loop_closures")
+      .BeginObject()
+      .Member("count", static_cast<int>(loops.size()))
+      .Member("moved_past", moved_past)
+      .Member("max_correction_m", max_correction_m)
+      .Member("median_seconds", median)
+      .Member("max_seconds", seconds.empty() ? 0.0 : seconds.back())
+      .EndObject();
+}
+
 }  // namespace
 
 std::string FormatAssociationsCsv(
@@ -150,6 +179,22 @@ std::string FormatAssociationsCsv(
   for (const DetectionAssignment& a : assignments) {
     out += std::to_string(a.keyframe) + "," + QuoteCsv(a.detection) + "," +
            std::to_string(a.object) + "," + ToString(a.symmetry) + "\n";
+  }
+  return out;
+}
+
+std::string FormatLoopClosuresCsv(
+    const std::vector<LoopClosureReport>& loop_closures) {
+  std::string out =
+      "keyframe,other,moved_past,correction_m,correction_deg,"
+      "keyframes_moved,initial_cost,final_cost,seconds,message\n";
+  for (const LoopClosureReport& c : loop_closures) {
+    out += std::to_string(c.keyframe) + "," + std::to_string(c.other) + "," +
+           (c.moved_past ? "true" : "false") + "," +
+           FormatDouble(c.correction_m) + "," + FormatDouble(c.correction_deg) +
+           "," + std::to_string(c.keyframes_moved) + "," +
+           FormatDouble(c.initial_cost) + "," + FormatDouble(c.final_cost) +
+           "," + FormatDouble(c.seconds) + "," + QuoteCsv(c.message) + "\n";
   }
   return out;
 }
@@ -223,6 +268,7 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
       .EndObject()
       .EndObject();
   WriteNoise(result.noise, &json);
+  WriteLoopClosures(result.loop_closures, &json);
   if (result.relocalization) WriteRelocalization(*result.relocalization, &json);
   WriteOptions(b, &json);
   json.EndObject();
@@ -237,6 +283,7 @@ std::vector<std::pair<std::string, std::string>> ReplayOutputFiles(
   return {{"trajectory.tum", FormatTumTrajectory(result.keyframes)},
           {"objects.json", FormatObjectsJson(result.objects)},
           {"associations.csv", FormatAssociationsCsv(result.assignments)},
+          {"loop_closures.csv", FormatLoopClosuresCsv(result.loop_closures)},
           {"summary.json", FormatReplaySummaryJson(log_path, options, result)}};
 }
 

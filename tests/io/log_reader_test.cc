@@ -120,6 +120,16 @@ void ExpectSameKeyframe(const KeyframeInput& expected,
     ASSERT_EQ(e.depth.has_value(), a.depth.has_value()) << where;
     if (e.depth) ExpectSame(*e.depth, *a.depth, where + " depth");
   }
+  ASSERT_EQ(expected.loop_closures.size(), actual.loop_closures.size())
+      << where;
+  for (std::size_t c = 0; c < expected.loop_closures.size(); ++c) {
+    const LoopClosureInput& e = expected.loop_closures[c];
+    const LoopClosureInput& a = actual.loop_closures[c];
+    EXPECT_EQ(e.keyframe, a.keyframe) << where;
+    ExpectSamePose(e.T, a.T, where + " loop closure");
+    ExpectSame(e.sigma_t, a.sigma_t, where + " loop sigma_t");
+    ExpectSame(e.sigma_r, a.sigma_r, where + " loop sigma_r");
+  }
 }
 
 Rigid3d RandomPose(std::mt19937* rng) {
@@ -210,6 +220,9 @@ std::vector<KeyframeInput> FullKeyframes() {
   one.hypotheses.push_back({RandomPose(&rng), 0.25});
   one.score = 0.0;
   both.detections.push_back(one);
+  // A loop closure to the first keyframe of the list.
+  both.loop_closures.push_back(
+      LoopClosureInput{keyframes.front().id, RandomPose(&rng), 0.03, 1e-4});
   keyframes.push_back(both);
 
   KeyframeInput pose_only;
@@ -587,6 +600,16 @@ const MalformedCase kMalformedCases[] = {
      "2: invalid JSON at column 41: syntax error while parsing value - unexpected end of input; expected '[', '{', or a literal"},
     {"keyframe_without_T_wc_or_odometry",
      "3: neither T_wc nor odometry (every keyframe after the first needs at least one of them)"},
+    {"loop_closure_later_keyframe",
+     "3: loop_closures[0].keyframe: 2 is not the id of an earlier keyframe of this log"},
+    {"loop_closure_missing_T",
+     "3: loop_closures[0].T: missing (this keyframe's pose in that one's frame)"},
+    {"loop_closure_not_array",
+     "3: loop_closures: expected an array, got an object"},
+    {"loop_closure_sigma_zero",
+     "3: loop_closures[1].sigma_r: must be positive, got 0"},
+    {"loop_closure_unknown_keyframe",
+     "3: loop_closures[0].keyframe: 7 is not the id of an earlier keyframe of this log"},
     {"odometry_missing_T",
      "3: odometry.T: missing (the pose T_{prev,cur})"},
     {"odometry_missing_sigma",

@@ -37,6 +37,7 @@
 #include "symba/backend/backend_options.h"
 #include "symba/backend/estimates.h"
 #include "symba/backend/keyframe_input.h"
+#include "symba/backend/loop_closure.h"
 #include "symba/backend/relocalization.h"
 #include "symba/backend/saved_map.h"
 #include "symba/categorization/categorize.h"
@@ -78,6 +79,9 @@ struct BackendStatistics {
   int solves = 0;
   double solve_seconds = 0.0;
   int solve_iterations = 0;
+  int loop_closures = 0;             // relative poses given by the host
+  int loop_closures_moved_past = 0;  // ... that moved the past
+  double loop_closure_seconds = 0.0;
 };
 
 class Backend {
@@ -97,6 +101,18 @@ class Backend {
   // keyframe, in input order (an object -1: the detection was refused).
   Status AddKeyframe(const KeyframeInput& keyframe,
                      std::vector<DetectionAssignment>* assignments = nullptr);
+  // A relative pose between two keyframes the host system knows (its own
+  // loop closure; docs/loop-closure.md): `closure.T` is `keyframe`'s pose
+  // in `closure.keyframe`'s frame. Both must be known and different. If the
+  // other keyframe has left the window, the keyframe graph (every
+  // keyframe, linked by its estimated motion) is optimised with every loop
+  // closure so far and the past moves with it: keyframes, objects, points
+  // and the priors marginalisation left. The constraint then stays in the
+  // window's solves. A KeyframeInput's loop_closures are added this way
+  // right after the keyframe. On an error nothing changes.
+  Status AddLoopClosure(KeyframeId keyframe,
+                        const LoopClosureInput& closure,
+                        LoopClosureReport* report = nullptr);
   Status OptimizeWindow(SolveReport* report = nullptr);
   Status OptimizeBatch(SolveReport* report = nullptr);
 
@@ -109,6 +125,8 @@ class Backend {
   std::vector<KeyframeEstimate> Keyframes() const;
   std::vector<MapObjectEstimate> Objects() const;
   const std::vector<DetectionAssignment>& Assignments() const;
+  // Every loop closure so far, in the order they were added.
+  const std::vector<LoopClosureReport>& LoopClosures() const;
   BackendStatistics Statistics() const;
   // Per class with detections, sorted by name: the detection noise
   // estimated so far and what the class's detections without a sigma are

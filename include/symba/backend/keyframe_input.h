@@ -41,6 +41,17 @@ struct PointObservation {
   std::optional<double> depth;                   // m, along the optical axis
 };
 
+// A relative pose the host system knows between an earlier keyframe and
+// this one (its own loop closure, docs/loop-closure.md): this keyframe's
+// pose in the earlier one's frame, T_{earlier,this}, with isotropic
+// standard deviations.
+struct LoopClosureInput {
+  KeyframeId keyframe = 0;  // the earlier keyframe
+  Rigid3d T;
+  double sigma_t = 0.05;  // m
+  double sigma_r = 0.02;  // rad
+};
+
 struct KeyframeInput {
   KeyframeId id = 0;                 // strictly increasing
   double timestamp = 0.0;            // s
@@ -48,6 +59,7 @@ struct KeyframeInput {
   std::optional<Odometry> odometry;  // from the previous keyframe
   std::vector<DetectionInput> detections;
   std::vector<PointObservation> points;
+  std::vector<LoopClosureInput> loop_closures;
 };
 
 }  // namespace symba

@@ -53,6 +53,7 @@ struct ReplayResult {
   std::optional<SavedMap> map;  // with ReplayOptions::save_map
   // With ReplayOptions::relocalize: Backend::Relocalization() at the end.
   std::optional<RelocalizationReport> relocalization;
+  std::vector<LoopClosureReport> loop_closures;  // Backend::LoopClosures()
   double seconds = 0.0;  // wall time of the whole replay
 };
 

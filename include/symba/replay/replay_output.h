@@ -6,6 +6,8 @@
 //   objects.json      {"objects": [{id, class, symmetry, t, axis?, angles?,
 //                                   poses, observations}]}
 //   associations.csv  keyframe,detection,object,symmetry
+//   loop_closures.csv keyframe,other,moved_past,correction_m,correction_deg,
+//                     keyframes_moved,initial_cost,final_cost,seconds,message
 //   summary.json      counts, timings, solver statistics, options used
 #ifndef SYMBA_REPLAY_REPLAY_OUTPUT_H_
 #define SYMBA_REPLAY_REPLAY_OUTPUT_H_
@@ -24,6 +26,9 @@ namespace symba {
 
 std::string FormatAssociationsCsv(
     const std::vector<DetectionAssignment>& assignments);
+// One row per loop closure (Backend::LoopClosures), header first.
+std::string FormatLoopClosuresCsv(
+    const std::vector<LoopClosureReport>& loop_closures);
 std::string FormatReplaySummaryJson(const std::string& log_path,
                                     const ReplayOptions& options,
                                     const ReplayResult& result);

@@ -1,0 +1,34 @@
+// What one loop closure did (docs/loop-closure.md): the two keyframes it
+// relates, whether it moved the past, and how far.
+#ifndef SYMBA_BACKEND_LOOP_CLOSURE_H_
+#define SYMBA_BACKEND_LOOP_CLOSURE_H_
+
+#include <string>
+
+#include "symba/backend/ids.h"
+
+namespace symba {
+
+struct LoopClosureReport {
+  KeyframeId keyframe = 0;  // the keyframe it was added with (the later)
+  KeyframeId other = 0;     // the keyframe it relates it to
+  // The other keyframe had left the window: the keyframe graph was
+  // optimised and every keyframe, object and point moved with it.
+  bool moved_past = false;
+  // How far the correction moved `keyframe` (m, degrees; 0 without one).
+  double correction_m = 0.0;
+  double correction_deg = 0.0;
+  int keyframes_moved =
+      0;  // keyframes that moved by more than 1 mm or 0.01 deg
+  // The keyframe graph's cost (1/2 sum r^T r) before and after.
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  double seconds = 0.0;  // the whole event
+  // Empty unless the keyframe graph's solve failed: the past then stays
+  // where it was, and the constraint is still added to the window.
+  std::string message;
+};
+
+}  // namespace symba
+
+#endif  // SYMBA_BACKEND_LOOP_CLOSURE_H_

@@ -1,0 +1,107 @@
+"""Loop closures from the host (docs/loop-closure.md) through Python: a
+keyframe's loop_closures and Backend.add_loop_closure correct a drifting
+odometry over the whole past, are reported, survive pickling, and bad ones
+raise symba.Error."""
+
+import math
+import pickle
+
+import numpy as np
+import pytest
+
+import symba
+
+
+def pose(yaw, x, y):
+    """4 x 4: a camera at (x, y, 1) turned by yaw about the world z."""
+    c, s = math.cos(yaw), math.sin(yaw)
+    T = np.eye(4)
+    T[:3, :3] = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
+    T[:3, 3] = [x, y, 1.0]
+    return T
+
+
+def orbit(n=40, radius=2.0):
+    """The true poses of one lap and back to the start (n + 1 of them)."""
+    poses = []
+    for k in range(n + 1):
+        phi = 2.0 * math.pi * k / n
+        poses.append(pose(phi, radius * math.cos(phi), radius * math.sin(phi)))
+    return poses
+
+
+def drifting_keyframes(truth, bias=math.radians(1.5)):
+    """Odometry with a yaw bias on the second half of the lap."""
+    keyframes = [symba.Keyframe(0, 0.0, T_wc=truth[0])]
+    for k in range(1, len(truth)):
+        step = np.linalg.inv(truth[k - 1]) @ truth[k]
+        if k > len(truth) // 2:
+            step = step @ pose(bias, 0.0, 0.0) @ np.linalg.inv(pose(0, 0, 0))
+        keyframes.append(symba.Keyframe(
+            k, 0.1 * k, odometry=symba.Odometry(step, 0.01, 0.02)))
+    return keyframes
+
+
+def closure_to_start(truth, k):
+    return symba.LoopClosure(0, np.linalg.inv(truth[0]) @ truth[k], 0.01,
+                             0.005)
+
+
+def position_rmse(backend, truth):
+    estimated = backend.keyframes().poses[:, :3]
+    expected = np.array([T[:3, 3] for T in truth])
+    return float(np.sqrt(np.mean(np.sum((estimated - expected) ** 2, 1))))
+
+
+def replay(keyframes):
+    backend = symba.Backend(symba.BackendOptions(window_size=5))
+    for keyframe in keyframes:
+        backend.add_keyframe(keyframe)
+        backend.optimize_window()
+    return backend
+
+
+def test_a_keyframes_loop_closure_corrects_the_whole_past():
+    truth = orbit()
+    keyframes = drifting_keyframes(truth)
+    open_loop = replay(keyframes)
+    keyframes[-1].loop_closures = [closure_to_start(truth, len(truth) - 1)]
+    assert keyframes[-1].loop_closures[0].keyframe == 0
+    closed = replay(keyframes)
+    assert position_rmse(open_loop, truth) > 0.3
+    assert position_rmse(closed, truth) < 0.25 * position_rmse(open_loop,
+                                                               truth)
+    (report,) = closed.loop_closures()
+    assert (report.keyframe, report.other, report.moved_past) == (40, 0, True)
+    assert report.correction_m > 0.3
+    assert report.final_cost < report.initial_cost
+    statistics = closed.statistics()
+    assert statistics.loop_closures == 1
+    assert statistics.loop_closures_moved_past == 1
+
+
+def test_add_loop_closure_is_reported_and_pickled():
+    truth = orbit()
+    backend = replay(drifting_keyframes(truth))
+    report = backend.add_loop_closure(40, closure_to_start(truth, 40))
+    assert report.moved_past and report.keyframes_moved > 30
+    copied = pickle.loads(pickle.dumps(backend))
+    np.testing.assert_array_equal(copied.keyframes().poses,
+                                  backend.keyframes().poses)
+    assert len(copied.loop_closures()) == 1
+    backend.optimize_window()
+    copied.optimize_window()
+    np.testing.assert_array_equal(copied.keyframes().poses,
+                                  backend.keyframes().poses)
+
+
+def test_bad_loop_closures_raise():
+    truth = orbit(n=8)
+    backend = replay(drifting_keyframes(truth))
+    with pytest.raises(symba.Error, match="unknown keyframe 99"):
+        backend.add_loop_closure(8, symba.LoopClosure(99, np.eye(4)))
+    with pytest.raises(symba.Error, match="itself"):
+        backend.add_loop_closure(8, symba.LoopClosure(8, np.eye(4)))
+    with pytest.raises(symba.Error, match="sigma_t"):
+        backend.add_loop_closure(8, symba.LoopClosure(0, np.eye(4), 0.0))
+    assert backend.loop_closures() == []

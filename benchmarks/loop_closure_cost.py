@@ -3,8 +3,8 @@
 (docs/loop-closure.md, "Measured"): `symba simulate --scene long`, replayed
 keyframe by keyframe with a window solve after each, once as it is and once
 with a host that recognises places perfectly: at keyframe k it closes a loop
-to the earliest keyframe j < k - gap whose true camera position is within
-`radius` of k's, with the true relative pose (sigma 2 cm / 0.01 rad), at most
+to the earliest (or, with --to latest, the latest) keyframe j < k - gap whose
+true camera position is within `radius` of k's, with the true relative pose (sigma 2 cm / 0.01 rad), at most
 one closure every `every` keyframes. Prints the keyframe position RMSE, the
 map objects, and the loop closures' times. Not a test.
 
@@ -42,7 +42,7 @@ def read_tum(path):
     return poses
 
 
-def host_closures(truth, gap, radius, every):
+def host_closures(truth, gap, radius, every, latest):
     positions = np.array([T[:3, 3] for T in truth])
     closures = {}
     last = -every
@@ -53,7 +53,7 @@ def host_closures(truth, gap, radius, every):
                                          axis=1) < radius)[0]
         if len(near) == 0:
             continue
-        j = int(near[0])
+        j = int(near[-1] if latest else near[0])
         closures[k] = (j, np.linalg.inv(truth[j]) @ truth[k])
         last = k
     return closures
@@ -86,6 +86,10 @@ def main():
     parser.add_argument("--gap", type=int, default=300)
     parser.add_argument("--radius", type=float, default=0.5)
     parser.add_argument("--every", type=int, default=100)
+    parser.add_argument("--to", choices=["earliest", "latest"],
+                        default="earliest",
+                        help="close to the earliest or the latest earlier "
+                        "visit")
     args = parser.parse_args()
     import symba
     with tempfile.TemporaryDirectory() as tmp:
@@ -96,7 +100,8 @@ def main():
                         "--out", str(out)], check=True)
         header, keyframes = symba.read_log(str(out / "log.jsonl"))
         truth = read_tum(out / "gt_trajectory.tum")
-    closures = host_closures(truth, args.gap, args.radius, args.every)
+    closures = host_closures(truth, args.gap, args.radius, args.every,
+                             args.to == "latest")
     for name, given in [("as it is", {}), ("host loop closures", closures)]:
         backend, rmse, times = replay(symba, header, keyframes, truth, given)
         reports = backend.loop_closures()

@@ -254,6 +254,7 @@ void BindEstimates(py::module_& m) {
       .def_readonly("solves", &S::solves)
       .def_readonly("solve_seconds", &S::solve_seconds)
       .def_readonly("solve_iterations", &S::solve_iterations)
+      .def_readonly("point_observations_behind", &S::point_observations_behind)
       .def_readonly("loop_closures", &S::loop_closures)
       .def_readonly("loop_closures_moved_past", &S::loop_closures_moved_past)
       .def_readonly("loop_closure_seconds", &S::loop_closure_seconds)

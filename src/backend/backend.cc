@@ -83,10 +83,12 @@ Status Backend::Impl::AddKeyframe(
       internal::ValidateKeyframe(input, previous, trajectory_.has_intrinsics());
   if (!status.ok()) return status;
   for (size_t i = 0; i < input.loop_closures.size(); ++i) {
-    status = CheckLoopClosure(-1,
-                              input.loop_closures[i],
-                              "keyframe " + std::to_string(input.id) +
-                                  ": loop_closures[" + std::to_string(i) + "]");
+    const std::string where = "keyframe " + std::to_string(input.id) +
+                              ": loop_closures[" + std::to_string(i) + "]";
+    if (input.loop_closures[i].keyframe == input.id) {
+      return Status::Error(where + ": relates a keyframe to itself");
+    }
+    status = CheckLoopClosure(-1, input.loop_closures[i], where);
     if (!status.ok()) return status;
   }
   status = CategorizeDetections(input);
@@ -150,7 +152,9 @@ Status Backend::Impl::OptimizeWindow(SolveReport* report) {
       0,
       static_cast<int>(trajectory_.keyframes().size()) - options_.window_size);
   graph_.SolveWindow(first, &outcome);
-  if (!pending_loops_.empty()) {
+  solved_keyframes_ = static_cast<int>(trajectory_.keyframes().size());
+  // A failed solve leaves the closures waiting for the next one.
+  if (!pending_loops_.empty() && outcome.usable) {
     ClosePendingLoops();
     // The window again, from the moved past and with the loop constraints.
     internal::SolveOutcome again;
@@ -167,7 +171,11 @@ Status Backend::Impl::OptimizeBatch(SolveReport* report) {
     return Status::Error("no keyframes to optimise");
   }
   const auto start = std::chrono::steady_clock::now();
-  ClosePendingLoops();
+  // The batch solve refuses without the history; nothing moves then.
+  if (options_.keep_history || graph_.marginalized_until() == 0) {
+    solved_keyframes_ = static_cast<int>(trajectory_.keyframes().size());
+    ClosePendingLoops();
+  }
   edges_.RebuildStale();
   internal::SolveOutcome outcome;
   const Status status = graph_.SolveBatch(&outcome);
@@ -416,7 +424,7 @@ const std::vector<DetectionAssignment>& Backend::Assignments() const {
   return impl_->assignments_;
 }
 
-const std::vector<LoopClosureReport>& Backend::LoopClosures() const {
+std::vector<LoopClosureReport> Backend::LoopClosures() const {
   return Run().loop_closures_;
 }
 

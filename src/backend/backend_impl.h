@@ -100,9 +100,19 @@ class Backend::Impl {
   LoopClosureReport CloseLoop(int k, const LoopClosureInput& closure);
   // The keyframes' loop closures waiting for their window solve.
   void ClosePendingLoops();
-  // Every keyframe to corrected[k], and with it every object and point (by
-  // the correction of the last keyframe that saw it) and every prior.
-  void MovePast(const std::vector<Rigid3d>& corrected);
+  // The confirmed objects as the keyframe graph holds them (by index; the
+  // others without keyframes).
+  std::vector<internal::GraphObject> GraphObjects() const;
+  // Each object's rigid move from its optimised vertex (identity for none).
+  std::vector<Rigid3d> ObjectMoves(
+      const std::vector<Rigid3d>& moves,
+      const std::vector<internal::GraphObject>& objects,
+      const std::vector<Rigid3d>& object_poses) const;
+  // Every keyframe k moved by moves[k] (T_wc <- moves[k] T_wc), object o by
+  // object_moves[o], each point by the mean move of its first and last
+  // observer, and every prior with them.
+  void MovePast(const std::vector<Rigid3d>& moves,
+                const std::vector<Rigid3d>& object_moves);
 
   // The parts, each constructed after those it refers to; the trajectory
   // and the object map only keep the graph's address until it exists.
@@ -113,6 +123,9 @@ class Backend::Impl {
   bool map_loaded_ = false;  // LoadMap succeeded (once per backend)
   std::vector<internal::LoopConstraint> loops_;
   std::vector<std::pair<int, LoopClosureInput>> pending_loops_;
+  // Keyframes before this index have been through a solve: a closure of a
+  // later one waits for the next (its pose is a prediction until then).
+  int solved_keyframes_ = 0;
   // One categorization per detection of the keyframe being added, reused
   // between keyframes.
   std::vector<CategorizedDetection> categorized_;

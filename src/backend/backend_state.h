@@ -176,7 +176,9 @@ struct PointState {
   // marginalize: its observations from keyframes that left the window, as
   // one prior on p_w (the factor's index; -1: none).
   int prior_factor = -1;
-  int last_keyframe = -1;  // the last keyframe that observed it
+  // The first and the last keyframe that observed it (-1: none).
+  int first_keyframe = -1;
+  int last_keyframe = -1;
 };
 
 // A factor and where it sits. The record owns its cost function; the

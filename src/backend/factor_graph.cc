@@ -237,6 +237,10 @@ void FactorGraph::Solve(int max_iterations,
 
 namespace {
 
+bool IsIdentity(const Rigid3d& W) {
+  return W.t.isZero(0.0) && W.q.vec().isZero(0.0);
+}
+
 // `prior` on `blocks` moved as `motion_of` says.
 std::unique_ptr<MarginalPriorFactor> MovedPrior(
     const MarginalPriorFactor& prior,
@@ -254,31 +258,55 @@ std::unique_ptr<MarginalPriorFactor> MovedPrior(
 
 }  // namespace
 
-void FactorGraph::MovePriors(
-    const std::function<RigidBlockMotion(const double*)>& motion_of) {
+void FactorGraph::MovePriors(const std::vector<Rigid3d>& keyframe_moves,
+                             const std::vector<Rigid3d>& object_moves,
+                             const std::vector<Rigid3d>& point_moves) {
+  const std::vector<Rigid3d>& moves = keyframe_moves;
+  using Role = RigidBlockRole;
   if (problem_.prior() != nullptr) {
+    // Its blocks are window keyframes' poses: search from the newest.
+    auto motion_of = [&](const double* block) {
+      for (int k = static_cast<int>(keyframes_.size()) - 1; k >= 0; --k) {
+        const KeyframeState& kf = *keyframes_[k];
+        if (block == kf.q) return RigidBlockMotion{Role::kRotation, moves[k]};
+        if (block == kf.t) return RigidBlockMotion{Role::kPosition, moves[k]};
+      }
+      return RigidBlockMotion{};
+    };
     const std::vector<double*> blocks = problem_.prior_blocks();
     problem_.SetPrior(MovedPrior(*problem_.prior(), blocks, motion_of), blocks);
   }
-  auto move = [&](int* prior_factor) {
-    if (*prior_factor < 0) return;
-    const FactorRecord& old = problem_.factor(*prior_factor);
+  // An entity's prior moved by W, its blocks by their roles.
+  auto move = [&](int prior_factor,
+                  const Rigid3d& W,
+                  const std::function<Role(const double*)>& role_of) {
+    if (prior_factor < 0 || IsIdentity(W)) return;
+    const FactorRecord& record = problem_.factor(prior_factor);
     // A dropped object's prior is retired with it.
-    if (old.retired || old.cost == nullptr) return;
+    if (record.retired || record.cost == nullptr) return;
     const auto* prior =
-        dynamic_cast<const MarginalPriorFactor*>(old.cost.get());
+        dynamic_cast<const MarginalPriorFactor*>(record.cost.get());
     SYMBA_CHECK(prior != nullptr) << "an entity's prior is not a prior";
-    FactorRecord record;
-    record.cost = MovedPrior(*prior, old.blocks, motion_of);
-    record.blocks = old.blocks;
-    record.object = old.object;
-    record.point = old.point;
-    record.summary = old.summary;
-    problem_.Retire(*prior_factor);
-    *prior_factor = Add(std::move(record));
+    problem_.ReplaceCost(
+        prior_factor,
+        MovedPrior(*prior, record.blocks, [&](const double* block) {
+          return RigidBlockMotion{role_of(block), W};
+        }));
   };
-  for (const auto& object : objects_) move(&object->prior_factor);
-  for (const auto& point : points_) move(&point->prior_factor);
+  for (size_t i = 0; i < objects_.size(); ++i) {
+    const ObjectState& o = *objects_[i];
+    move(o.prior_factor, object_moves[i], [&o](const double* block) {
+      if (block == o.q) return Role::kRotation;
+      if (block == o.t) return Role::kPosition;
+      if (block == o.a_w) return Role::kAxis;
+      return Role::kUnmoved;  // a discrete angle
+    });
+  }
+  for (size_t i = 0; i < points_.size(); ++i) {
+    move(points_[i]->prior_factor, point_moves[i], [](const double*) {
+      return Role::kPosition;
+    });
+  }
 }
 
 }  // namespace symba::internal

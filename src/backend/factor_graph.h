@@ -82,11 +82,13 @@ class FactorGraph {
 
   // Keyframes before this one have left the window.
   int marginalized_until() const { return marginalized_until_; }
-  // Every prior (the keyframe prior, each object's and point's) is moved
-  // with its blocks (rigidly_moved_prior.h): `motion_of` says how each
-  // block moves. Call it when the blocks themselves are moved so.
-  void MovePriors(
-      const std::function<RigidBlockMotion(const double*)>& motion_of);
+  // A loop closure moved keyframe k by keyframe_moves[k] (T_wc <- W T_wc):
+  // every prior moves rigidly (rigidly_moved_prior.h), the keyframe
+  // prior's blocks each with their keyframe, object o's prior by
+  // object_moves[o], point p's by point_moves[p]. Replaced in place.
+  void MovePriors(const std::vector<Rigid3d>& keyframe_moves,
+                  const std::vector<Rigid3d>& object_moves,
+                  const std::vector<Rigid3d>& point_moves);
 
   // The window solve: keyframes before `first` leave the window, then the
   // window's factors and the priors (marginalize), every factor of what

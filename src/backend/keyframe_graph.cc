@@ -1,5 +1,6 @@
 #include "backend/keyframe_graph.h"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -18,7 +19,8 @@ Matrix6d IsotropicInformation(double sigma_t, double sigma_r) {
 }  // namespace
 
 PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
-                            const std::vector<LoopConstraint>& loops) {
+                            const std::vector<LoopConstraint>& loops,
+                            const std::vector<GraphObject>& objects) {
   PoseGraph graph;
   const int n = static_cast<int>(keyframes.size());
   for (int k = 0; k < n; ++k) {
@@ -27,8 +29,14 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
   graph.fixed.insert(0);
   for (int k = 1; k < n; ++k) {
     const KeyframeState& kf = *keyframes[k];
+    // Information 1 / variance, finite and positive (a huge or tiny stated
+    // sigma counts as unstated).
+    auto usable = [](double variance) {
+      return variance > 0.0 && std::isfinite(variance) &&
+             std::isfinite(1.0 / variance);
+    };
     const bool stated =
-        kf.motion_variance_t > 0.0 && kf.motion_variance_r > 0.0;
+        usable(kf.motion_variance_t) && usable(kf.motion_variance_r);
     PoseGraphEdge edge;
     edge.from = k - 1;
     edge.to = k;
@@ -48,21 +56,79 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
     edge.information = IsotropicInformation(loop.sigma_t, loop.sigma_r);
     graph.edges.push_back(std::move(edge));
   }
+  for (size_t o = 0; o < objects.size(); ++o) {
+    const GraphObject& object = objects[o];
+    const int count = static_cast<int>(object.keyframes.size());
+    if (count == 0) continue;
+    const int64_t vertex = n + static_cast<int64_t>(o);
+    graph.poses.emplace(vertex, Normalized(object.T_wo));
+    const int edges = std::min(count, kMaxObjectEdges);
+    const double weight = static_cast<double>(count) / edges;
+    Matrix6d information = Matrix6d::Zero();
+    information.topLeftCorner<3, 3>().diagonal().setConstant(
+        weight / (object.sigma_t * object.sigma_t));
+    information.bottomRightCorner<3, 3>().diagonal().setConstant(
+        object.rotation ? weight / (object.sigma_r * object.sigma_r)
+                        : kSymmetricRotationInformation);
+    for (int e = 0; e < edges; ++e) {
+      // Spread over the detections, the first and the last among them.
+      const int i = edges == 1 ? count - 1
+                               : static_cast<int>(static_cast<int64_t>(e) *
+                                                  (count - 1) / (edges - 1));
+      const int k = object.keyframes[i];
+      PoseGraphEdge edge;
+      edge.from = k;
+      edge.to = vertex;
+      edge.T_ab = object.measured.empty()
+                      ? Normalized(graph.poses.at(k).Inverse() * object.T_wo)
+                      : Normalized(object.measured[i]);
+      edge.information = information;
+      graph.edges.push_back(std::move(edge));
+    }
+  }
   return graph;
 }
 
 Status OptimizeKeyframeGraph(const KeyframeList& keyframes,
                              const std::vector<LoopConstraint>& loops,
-                             std::vector<Rigid3d>* corrected,
+                             const std::vector<GraphObject>& objects,
+                             std::vector<Rigid3d>* keyframe_poses,
+                             std::vector<Rigid3d>* object_poses,
                              PoseGraphSolveSummary* summary) {
-  PoseGraph graph = MakeKeyframeGraph(keyframes, loops);
+  PoseGraph graph = MakeKeyframeGraph(keyframes, loops, objects);
   PoseGraphSolveOptions options;
   Status status = OptimizePoseGraph(options, &graph, summary);
   if (!status.ok()) return status;
-  corrected->clear();
-  corrected->reserve(graph.poses.size());
-  for (const auto& [k, T_wc] : graph.poses) corrected->push_back(T_wc);
+  const int64_t n = static_cast<int64_t>(keyframes.size());
+  keyframe_poses->clear();
+  for (int64_t k = 0; k < n; ++k) keyframe_poses->push_back(graph.poses.at(k));
+  object_poses->clear();
+  for (size_t o = 0; o < objects.size(); ++o) {
+    const auto it = graph.poses.find(n + static_cast<int64_t>(o));
+    object_poses->push_back(it != graph.poses.end() ? it->second
+                                                    : objects[o].T_wo);
+  }
   return Status::Ok();
+}
+
+Rigid3d MeanMove(const std::vector<Rigid3d>& moves,
+                 const std::vector<int>& keyframes,
+                 const Eigen::Vector3d& p) {
+  Eigen::Vector4d q_sum = Eigen::Vector4d::Zero();
+  Eigen::Vector3d p_sum = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (int k : keyframes) {
+    if (k < 0) continue;
+    const Eigen::Quaterniond q = moves[k].q.normalized();
+    // q and -q are one rotation: the hemisphere of the first.
+    const double sign = count > 0 && q.coeffs().dot(q_sum) < 0.0 ? -1.0 : 1.0;
+    q_sum += sign * q.coeffs();
+    p_sum += moves[k] * p;
+    ++count;
+  }
+  if (count == 0) return Rigid3d();
+  const Eigen::Quaterniond q = Eigen::Quaterniond(q_sum).normalized();
+  return Rigid3d(q, p_sum / count - q * p);
 }
 
 }  // namespace symba::internal

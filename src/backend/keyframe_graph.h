@@ -5,12 +5,16 @@
 // so far. Not installed.
 //
 //   vertices  every keyframe, at its current estimate T_wc; keyframe 0
-//             holds the gauge
+//             holds the gauge; every confirmed map object (GraphObject)
 //   edges     consecutive keyframes k-1, k: their estimated relative pose
 //             T_{k-1,k}, information diag(I3 / s_t^2, I3 / s_r^2) from the
 //             keyframe's motion variance (kUnstatedMotionSigma_* where it
 //             has no motion factor: the first of a front end's gap);
-//             each loop closure: its T and sigmas
+//             each loop closure: its T and sigmas;
+//             each object and (up to kMaxObjectEdges of) the keyframes that
+//             detected it: the detection's representative pose T_co,
+//             weighed with the class's detection noise (position; the
+//             rotation for an asymmetric object only)
 //
 // The estimated relative poses carry what the window's solves made of the
 // objects and points; the loop's error is spread along the chain in
@@ -42,16 +46,52 @@ struct LoopConstraint {
   double sigma_r = 0.0;  // rad
 };
 
-// The graph above for `keyframes` (at least one) and `loops`.
-PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
-                            const std::vector<LoopConstraint>& loops);
+// A map object in the graph: a vertex at its estimate, linked to the
+// keyframes that detected it by what they measured, so that keyframes that
+// saw it move together and drifted ones are pulled to it.
+struct GraphObject {
+  Rigid3d T_wo;  // a symmetric object's rotation is any of its poses
+  // Asymmetric: its detections constrain its rotation. Otherwise the
+  // rotation rows get kSymmetricRotationInformation only (they keep the
+  // vertex's rotation determined).
+  bool rotation = false;
+  std::vector<int> keyframes;  // the detecting keyframes (indices)
+  // Per detecting keyframe, what it measured: the detection's
+  // representative pose T_co (its position; its rotation for an
+  // asymmetric object). Empty: the estimated relative pose instead.
+  std::vector<Rigid3d> measured;
+  double sigma_t = 0.0;  // the class's detection noise (m, rad)
+  double sigma_r = 0.0;
+};
 
-// Optimises that graph; on success (*corrected)[k] is keyframe k's
-// optimised pose. On an error *corrected is untouched.
+// At most this many edges per object, spread over its detections, each
+// with the information of (detections / edges) detections.
+inline constexpr int kMaxObjectEdges = 16;
+inline constexpr double kSymmetricRotationInformation = 1e-6;  // 1/rad^2
+
+// The graph above for `keyframes` (at least one), `loops` and `objects`
+// (vertex ids: keyframe indices, then keyframes.size() + object index).
+PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
+                            const std::vector<LoopConstraint>& loops,
+                            const std::vector<GraphObject>& objects);
+
+// Optimises that graph; on success (*keyframe_poses)[k] is keyframe k's
+// optimised pose and (*object_poses)[o] object o's. On an error nothing is
+// written.
 Status OptimizeKeyframeGraph(const KeyframeList& keyframes,
                              const std::vector<LoopConstraint>& loops,
-                             std::vector<Rigid3d>* corrected,
+                             const std::vector<GraphObject>& objects,
+                             std::vector<Rigid3d>* keyframe_poses,
+                             std::vector<Rigid3d>* object_poses,
                              PoseGraphSolveSummary* summary);
+
+// The one rigid move that stands for the moves of `keyframes` (indices,
+// -1 skipped) at a point p they observed: its rotation the chordal mean of
+// theirs, its translation such that it takes p to the mean of W_k p. The
+// identity for none.
+Rigid3d MeanMove(const std::vector<Rigid3d>& moves,
+                 const std::vector<int>& keyframes,
+                 const Eigen::Vector3d& p);
 
 }  // namespace symba::internal
 

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "backend/backend_impl.h"
+#include "backend/detection_noise.h"
 #include "backend/keyframe_validation.h"
 #include "symba/factors/relative_pose_factor.h"
 
@@ -19,6 +20,8 @@ namespace symba {
 namespace {
 
 constexpr double kRadToDeg = 57.29577951308232;
+constexpr double kMinLoopSigma = 1e-9;  // m or rad
+constexpr double kMaxLoopSigma = 1e9;
 
 double AngleDeg(const Eigen::Quaterniond& q) {
   return kRadToDeg * 2.0 *
@@ -40,9 +43,14 @@ Status Backend::Impl::CheckLoopClosure(int k,
   }
   Status status = internal::CheckPose(closure.T, prefix + ": T");
   if (!status.ok()) return status;
-  status = internal::CheckSigma(closure.sigma_t, prefix + ": sigma_t");
-  if (!status.ok()) return status;
-  return internal::CheckSigma(closure.sigma_r, prefix + ": sigma_r");
+  // Its information 1 / sigma^2 must be a positive finite number too.
+  for (const auto& [sigma, name] :
+       {std::pair{closure.sigma_t, "sigma_t"}, {closure.sigma_r, "sigma_r"}}) {
+    if (!(sigma >= kMinLoopSigma && sigma <= kMaxLoopSigma)) {
+      return Status::Error(prefix + ": " + name + " must be in [1e-9, 1e9]");
+    }
+  }
+  return Status::Ok();
 }
 
 Status Backend::Impl::AddLoopClosure(KeyframeId keyframe,
@@ -58,6 +66,17 @@ Status Backend::Impl::AddLoopClosure(KeyframeId keyframe,
   }
   Status status = CheckLoopClosure(k, closure, prefix);
   if (!status.ok()) return status;
+  const int other = trajectory_.IndexOf(closure.keyframe);
+  if (std::max(k, other) >= solved_keyframes_) {
+    pending_loops_.emplace_back(k, closure);
+    if (report != nullptr) {
+      *report = LoopClosureReport();
+      report->keyframe = keyframe;
+      report->other = closure.keyframe;
+      report->message = "waits for the next solve";
+    }
+    return Status::Ok();
+  }
   const LoopClosureReport done = CloseLoop(k, closure);
   if (report != nullptr) *report = done;
   return Status::Ok();
@@ -84,19 +103,30 @@ LoopClosureReport Backend::Impl::CloseLoop(int k,
   const int window_begin =
       static_cast<int>(keyframes.size()) - options_.window_size;
   if (loop.earlier < std::max(window_begin, graph_.marginalized_until())) {
-    std::vector<Rigid3d> corrected;
+    const std::vector<internal::GraphObject> objects = GraphObjects();
+    std::vector<Rigid3d> keyframe_poses;
+    std::vector<Rigid3d> object_poses;
     PoseGraphSolveSummary summary;
     const Status status = internal::OptimizeKeyframeGraph(
-        keyframes, loops_, &corrected, &summary);
+        keyframes, loops_, objects, &keyframe_poses, &object_poses, &summary);
     if (status.ok()) {
       const Rigid3d before = keyframes[k]->T_wc();
+      // The window moves as one: its solves made its keyframes, objects and
+      // points agree, and a bend inside it could put a point behind a
+      // camera. It takes the newest keyframe's correction.
+      std::vector<Rigid3d> moves(keyframes.size());
       for (size_t i = 0; i < keyframes.size(); ++i) {
-        const Rigid3d step = corrected[i] * keyframes[i]->T_wc().Inverse();
+        moves[i] = keyframe_poses[i] * keyframes[i]->T_wc().Inverse();
+      }
+      for (size_t i = std::max(0, window_begin); i < keyframes.size(); ++i) {
+        moves[i] = moves.back();
+      }
+      for (const Rigid3d& step : moves) {
         if (step.t.norm() > 1e-3 || AngleDeg(step.q) > 0.01) {
           ++report.keyframes_moved;
         }
       }
-      MovePast(corrected);
+      MovePast(moves, ObjectMoves(moves, objects, object_poses));
       const Rigid3d step = keyframes[k]->T_wc() * before.Inverse();
       report.moved_past = true;
       report.correction_m = (keyframes[k]->T_wc().t - before.t).norm();
@@ -106,6 +136,18 @@ LoopClosureReport Backend::Impl::CloseLoop(int k,
     } else {
       report.message = status.message();
     }
+  }
+  if (!report.message.empty()) {
+    // Without the moved past, the closure would kink the window against
+    // the held keyframes: it is left out (reported), also of later graphs.
+    loops_.pop_back();
+    report.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+            .count();
+    ++statistics_.loop_closures;
+    statistics_.loop_closure_seconds += report.seconds;
+    loop_closures_.push_back(report);
+    return report;
   }
 
   // The constraint, in every later solve that holds the later keyframe.
@@ -129,47 +171,85 @@ LoopClosureReport Backend::Impl::CloseLoop(int k,
   return report;
 }
 
+std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
+  const internal::ObjectList& objects = map_.objects();
+  std::vector<internal::GraphObject> out(objects.size());
+  for (size_t o = 0; o < objects.size(); ++o) {
+    const internal::ObjectState& object = *objects[o];
+    if (object.status != internal::ObjectStatus::kConfirmed ||
+        object.observations.empty()) {
+      continue;
+    }
+    internal::GraphObject& g = out[o];
+    g.rotation = object.type == SymmetryType::kAsymmetric;
+    g.T_wo = Rigid3d(object.Rotation(-1), object.position());
+    for (const internal::ObjectObservation& observation : object.observations) {
+      // A symba detection makes one observation per mode.
+      if (g.keyframes.empty() || g.keyframes.back() != observation.keyframe) {
+        g.keyframes.push_back(observation.keyframe);
+        g.measured.push_back(observation.T_co_best);
+      }
+    }
+    // The noise its edges are weighed with (its first detection's).
+    const internal::ObjectObservation& first = object.observations.front();
+    const internal::ClassNoise noise = edges_.AppliedNoise(object.class_name);
+    g.sigma_t =
+        internal::EffectiveSigma(first.sigma_t, first.claimed_t, noise.sigma_t);
+    g.sigma_r =
+        internal::EffectiveSigma(first.sigma_r, first.claimed_r, noise.sigma_r);
+  }
+  return out;
+}
+
+std::vector<Rigid3d> Backend::Impl::ObjectMoves(
+    const std::vector<Rigid3d>& moves,
+    const std::vector<internal::GraphObject>& objects,
+    const std::vector<Rigid3d>& object_poses) const {
+  std::vector<Rigid3d> out(objects.size());
+  for (size_t o = 0; o < objects.size(); ++o) {
+    const internal::GraphObject& g = objects[o];
+    if (g.keyframes.empty()) continue;
+    const Rigid3d& after = object_poses[o];
+    // An asymmetric object turns as its vertex did; a symmetric one, whose
+    // vertex rotation is free about nothing it can measure, as its
+    // detecting keyframes did on average.
+    const Eigen::Quaterniond R =
+        g.rotation ? (after.q * g.T_wo.q.inverse()).normalized()
+                   : internal::MeanMove(moves, g.keyframes, g.T_wo.t).q;
+    out[o] = Rigid3d(R, after.t - R * g.T_wo.t);
+  }
+  return out;
+}
+
 void Backend::Impl::ClosePendingLoops() {
   for (const auto& [k, closure] : pending_loops_) CloseLoop(k, closure);
   pending_loops_.clear();
 }
 
-void Backend::Impl::MovePast(const std::vector<Rigid3d>& corrected) {
+void Backend::Impl::MovePast(const std::vector<Rigid3d>& moves,
+                             const std::vector<Rigid3d>& object_moves) {
   const internal::KeyframeList& keyframes = trajectory_.keyframes();
-  std::vector<Rigid3d> moves(keyframes.size());
-  for (size_t k = 0; k < keyframes.size(); ++k) {
-    moves[k] = corrected[k] * keyframes[k]->T_wc().Inverse();
-  }
-  using Role = RigidBlockRole;
-  std::unordered_map<const double*, RigidBlockMotion> motions;
-  for (size_t k = 0; k < keyframes.size(); ++k) {
-    motions[keyframes[k]->q] = {Role::kRotation, moves[k]};
-    motions[keyframes[k]->t] = {Role::kPosition, moves[k]};
-  }
   const internal::ObjectList& objects = map_.objects();
-  for (const auto& object : objects) {
-    if (object->last_keyframe < 0) continue;
-    const Rigid3d& W = moves[object->last_keyframe];
-    motions[object->q] = {Role::kRotation, W};
-    motions[object->t] = {Role::kPosition, W};
-    motions[object->a_w] = {Role::kAxis, W};
+  const internal::PointList& points = trajectory_.points();
+  // Each point by the mean move of its first and last observer.
+  std::vector<Rigid3d> point_moves(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    const internal::PointState& point = *points[i];
+    if (point.last_keyframe < 0) continue;
+    point_moves[i] =
+        internal::MeanMove(moves,
+                           {point.first_keyframe, point.last_keyframe},
+                           Eigen::Map<const Eigen::Vector3d>(point.p));
   }
-  for (const auto& point : trajectory_.points()) {
-    if (point->last_keyframe < 0) continue;
-    motions[point->p] = {Role::kPosition, moves[point->last_keyframe]};
-  }
-  graph_.MovePriors([&motions](const double* block) {
-    const auto it = motions.find(block);
-    return it == motions.end() ? RigidBlockMotion{} : it->second;
-  });
+  graph_.MovePriors(moves, object_moves, point_moves);
 
   for (size_t k = 0; k < keyframes.size(); ++k) {
-    internal::WritePose(corrected[k], keyframes[k]->q, keyframes[k]->t);
+    internal::WritePose(
+        moves[k] * keyframes[k]->T_wc(), keyframes[k]->q, keyframes[k]->t);
   }
   for (size_t o = 0; o < objects.size(); ++o) {
     internal::ObjectState& object = *objects[o];
-    if (object.last_keyframe < 0) continue;
-    const Rigid3d& W = moves[object.last_keyframe];
+    const Rigid3d& W = object_moves[o];
     const Eigen::Quaterniond R = W.q.normalized();
     Eigen::Map<Eigen::Vector3d>(object.t) = W * object.position();
     Eigen::Map<Eigen::Quaterniond> q(object.q);
@@ -184,10 +264,9 @@ void Backend::Impl::MovePast(const std::vector<Rigid3d>& corrected) {
       edges_.Rebuild(static_cast<int>(o));
     }
   }
-  for (const auto& point : trajectory_.points()) {
-    if (point->last_keyframe < 0) continue;
-    Eigen::Map<Eigen::Vector3d> p(point->p);
-    p = moves[point->last_keyframe] * Eigen::Vector3d(p);
+  for (size_t i = 0; i < points.size(); ++i) {
+    Eigen::Map<Eigen::Vector3d> p(points[i]->p);
+    p = point_moves[i] * Eigen::Vector3d(p);
   }
 }
 

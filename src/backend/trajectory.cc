@@ -136,7 +136,19 @@ void Trajectory::AddPointObservations(int k, const KeyframeInput& input) {
       points_.push_back(std::move(point));
       ++statistics_->points;
     }
-    points_[it->second]->last_keyframe = k;
+    // A point behind the camera's initial pose cannot be projected: a solve
+    // could not start from it (a point moved by a loop closure, a front end
+    // that jumped). The observation is left out.
+    const Eigen::Vector3d p_c =
+        kf.T_wc().Inverse() *
+        Eigen::Map<const Eigen::Vector3d>(points_[it->second]->p);
+    if (p_c.z() <= ReprojectionFactor::kMinDepth) {
+      ++statistics_->point_observations_behind;
+      continue;
+    }
+    PointState& point = *points_[it->second];
+    if (point.first_keyframe < 0) point.first_keyframe = k;
+    point.last_keyframe = k;
     FactorRecord record;
     record.cost.reset(
         ReprojectionFactor::Create(*intrinsics_, obs.uv, sqrt_info));

@@ -72,6 +72,15 @@ void WindowProblem::Retire(int f) {
   record.cost.reset();
 }
 
+void WindowProblem::ReplaceCost(int f,
+                                std::unique_ptr<ceres::CostFunction> cost) {
+  FactorRecord& record = factors_[f];
+  SYMBA_CHECK(!record.retired && cost != nullptr)
+      << "replacing a retired factor";
+  RemoveResidual(&record.residual, record.blocks, &problem_, &released_);
+  record.cost = std::move(cost);
+}
+
 void WindowProblem::MarkMarginalized(int f) {
   FactorRecord& record = factors_[f];
   RemoveResidual(&record.residual, record.blocks, &problem_, &released_);

@@ -41,6 +41,10 @@ class WindowProblem {
   // Out of the problem for good (replaced by a rebuilt factor); its cost
   // function is freed.
   void Retire(int f);
+  // The same factor (index, blocks, flags) with another cost function; it
+  // leaves the problem and enters again at the next Sync that marks it
+  // active.
+  void ReplaceCost(int f, std::unique_ptr<ceres::CostFunction> cost);
   // Marginalised: out of the window solves for good (Sync skips it unless
   // with_marginalized), kept for the batch solve.
   void MarkMarginalized(int f);

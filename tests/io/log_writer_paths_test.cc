@@ -1,9 +1,11 @@
 // The log writer names a refused value by its path (src/io/log_writer.cc
 // builds the path only for the message): the nested paths of detections,
-// hypotheses and points, beyond those log_reader_test checks.
+// hypotheses, points and loop closures, beyond those log_reader_test
+// checks.
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -62,6 +64,36 @@ TEST_F(LogWriterPaths, NamesNestedValues) {
   EXPECT_EQ(Refusal(), "out: keyframe 2: points[0].uv: non-finite number");
   keyframe_.points[0].uv.y() = 1.0;
   EXPECT_TRUE(writer_->Write(keyframe_).ok());
+}
+
+TEST_F(LogWriterPaths, NamesLoopClosures) {
+  ASSERT_TRUE(writer_->Write(keyframe_).ok());  // keyframe 2
+  keyframe_.id = 3;
+  keyframe_.odometry = Odometry{};
+  keyframe_.loop_closures.resize(2);
+  keyframe_.loop_closures[0].keyframe = 2;
+  keyframe_.loop_closures[1].keyframe = 1;
+  EXPECT_EQ(Refusal(),
+            "out: keyframe 3: loop_closures[1].keyframe: 1 is not the id of an "
+            "earlier keyframe of this log");
+  keyframe_.loop_closures[1].keyframe = 3;
+  EXPECT_EQ(Refusal(),
+            "out: keyframe 3: loop_closures[1].keyframe: 3 is not the id of an "
+            "earlier keyframe of this log");
+  keyframe_.loop_closures[1].keyframe = 2;
+  keyframe_.loop_closures[1].T.q.coeffs() *= 2.0;
+  EXPECT_EQ(Refusal(),
+            "out: keyframe 3: loop_closures[1].T.q: quaternion norm 2 is not "
+            "within 1e-3 of 1");
+  keyframe_.loop_closures[1].T = Rigid3d();
+  keyframe_.loop_closures[0].sigma_t = 0.0;
+  EXPECT_EQ(Refusal(),
+            "out: keyframe 3: loop_closures[0].sigma_t: must be positive, got "
+            "0");
+  keyframe_.loop_closures[0].sigma_t = 0.1;
+  EXPECT_TRUE(writer_->Write(keyframe_).ok());
+  EXPECT_NE(text_.str().find("\"loop_closures\":[{\"keyframe\":2,"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -79,6 +79,8 @@ struct BackendStatistics {
   int solves = 0;
   double solve_seconds = 0.0;
   int solve_iterations = 0;
+  // observations of a map point behind the camera's initial pose, left out
+  int point_observations_behind = 0;
   int loop_closures = 0;             // relative poses given by the host
   int loop_closures_moved_past = 0;  // ... that moved the past
   double loop_closure_seconds = 0.0;
@@ -126,7 +128,7 @@ class Backend {
   std::vector<MapObjectEstimate> Objects() const;
   const std::vector<DetectionAssignment>& Assignments() const;
   // Every loop closure so far, in the order they were added.
-  const std::vector<LoopClosureReport>& LoopClosures() const;
+  std::vector<LoopClosureReport> LoopClosures() const;
   BackendStatistics Statistics() const;
   // Per class with detections, sorted by name: the detection noise
   // estimated so far and what the class's detections without a sigma are

@@ -10,8 +10,11 @@
 namespace symba {
 
 struct LoopClosureReport {
-  KeyframeId keyframe = 0;  // the keyframe it was added with (the later)
-  KeyframeId other = 0;     // the keyframe it relates it to
+  // The keyframe it was added with (KeyframeInput::loop_closures: the one
+  // that carried it; AddLoopClosure: its `keyframe` argument) and the one
+  // it relates it to.
+  KeyframeId keyframe = 0;
+  KeyframeId other = 0;
   // The other keyframe had left the window: the keyframe graph was
   // optimised and every keyframe, object and point moved with it.
   bool moved_past = false;
@@ -25,7 +28,8 @@ struct LoopClosureReport {
   double final_cost = 0.0;
   double seconds = 0.0;  // the whole event
   // Empty unless the keyframe graph's solve failed: the past then stays
-  // where it was, and the constraint is still added to the window.
+  // where it was and the closure is left out. AddLoopClosure's report of a
+  // closure that waits for the next solve says "waits for the next solve".
   std::string message;
 };
 

@@ -449,8 +449,9 @@ std::string Report(const Flags& flags,
       << " keyframes are in every run. Map objects: those the detections of "
          "these keyframes went to; per object: over the simulated objects, "
          "how many map objects their detections in these keyframes went to "
-         "(1 is right); the scene has 23 objects. symba has no loop closure: "
-         "with the scene's default "
+         "(1 is right); the scene has 23 objects. symba finds no loop "
+         "closure itself, and this log carries none of a host's "
+         "([loop-closure.md](loop-closure.md)): with the scene's default "
          "featureless yaw bias the front end drifts by metres over a lap, "
          "and a place revisited that far off is mapped again, under every "
          "policy.\n";

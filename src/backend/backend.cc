@@ -152,8 +152,10 @@ Status Backend::Impl::OptimizeWindow(SolveReport* report) {
       0,
       static_cast<int>(trajectory_.keyframes().size()) - options_.window_size);
   graph_.SolveWindow(first, &outcome);
-  solved_keyframes_ = static_cast<int>(trajectory_.keyframes().size());
   // A failed solve leaves the closures waiting for the next one.
+  if (outcome.usable) {
+    solved_keyframes_ = static_cast<int>(trajectory_.keyframes().size());
+  }
   if (!pending_loops_.empty() && outcome.usable) {
     ClosePendingLoops();
     // The window again, from the moved past and with the loop constraints.

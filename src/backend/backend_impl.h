@@ -103,16 +103,21 @@ class Backend::Impl {
   // The confirmed objects as the keyframe graph holds them (by index; the
   // others without keyframes).
   std::vector<internal::GraphObject> GraphObjects() const;
-  // Each object's rigid move from its optimised vertex (identity for none).
+  // Each object's rigid move: with the window if only the window saw it
+  // (keyframes from window_begin on), else to its optimised vertex, or by
+  // the mean move of its detectors if it is not in the graph; identity for
+  // one never detected or dropped.
   std::vector<Rigid3d> ObjectMoves(
       const std::vector<Rigid3d>& moves,
       const std::vector<internal::GraphObject>& objects,
-      const std::vector<Rigid3d>& object_poses) const;
+      const std::vector<Rigid3d>& object_poses,
+      int window_begin) const;
   // Every keyframe k moved by moves[k] (T_wc <- moves[k] T_wc), object o by
-  // object_moves[o], each point by the mean move of its first and last
-  // observer, and every prior with them.
+  // object_moves[o], each point with the window (seen from it) or by the
+  // mean move of its first and last observer, and every prior with them.
   void MovePast(const std::vector<Rigid3d>& moves,
-                const std::vector<Rigid3d>& object_moves);
+                const std::vector<Rigid3d>& object_moves,
+                int window_begin);
 
   // The parts, each constructed after those it refers to; the trajectory
   // and the object map only keep the graph's address until it exists.

@@ -7,6 +7,7 @@
 
 #include <ceres/solver.h>
 
+#include "backend/keyframe_graph.h"
 #include "symba/common/check.h"
 
 namespace symba::internal {
@@ -237,10 +238,6 @@ void FactorGraph::Solve(int max_iterations,
 
 namespace {
 
-bool IsIdentity(const Rigid3d& W) {
-  return W.t.isZero(0.0) && W.q.vec().isZero(0.0);
-}
-
 // `prior` on `blocks` moved as `motion_of` says.
 std::unique_ptr<MarginalPriorFactor> MovedPrior(
     const MarginalPriorFactor& prior,
@@ -282,8 +279,10 @@ void FactorGraph::MovePriors(const std::vector<Rigid3d>& keyframe_moves,
                   const std::function<Role(const double*)>& role_of) {
     if (prior_factor < 0 || IsIdentity(W)) return;
     const FactorRecord& record = problem_.factor(prior_factor);
-    // A dropped object's prior is retired with it.
-    if (record.retired || record.cost == nullptr) return;
+    // A dropped object's prior is retired with it. A loaded map's prior,
+    // not yet merged with the run's observations (not a summary), holds
+    // the map's frame: it stays.
+    if (record.retired || record.cost == nullptr || !record.summary) return;
     const auto* prior =
         dynamic_cast<const MarginalPriorFactor*>(record.cost.get());
     SYMBA_CHECK(prior != nullptr) << "an entity's prior is not a prior";

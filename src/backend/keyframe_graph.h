@@ -85,6 +85,11 @@ Status OptimizeKeyframeGraph(const KeyframeList& keyframes,
                              std::vector<Rigid3d>* object_poses,
                              PoseGraphSolveSummary* summary);
 
+// Exactly the identity (an unmoved entity).
+inline bool IsIdentity(const Rigid3d& W) {
+  return W.t.isZero(0.0) && W.q.vec().isZero(0.0);
+}
+
 // The one rigid move that stands for the moves of `keyframes` (indices,
 // -1 skipped) at a point p they observed: its rotation the chordal mean of
 // theirs, its translation such that it takes p to the mean of W_k p. The

@@ -126,7 +126,9 @@ LoopClosureReport Backend::Impl::CloseLoop(int k,
           ++report.keyframes_moved;
         }
       }
-      MovePast(moves, ObjectMoves(moves, objects, object_poses));
+      MovePast(moves,
+               ObjectMoves(moves, objects, object_poses, window_begin),
+               window_begin);
       const Rigid3d step = keyframes[k]->T_wc() * before.Inverse();
       report.moved_past = true;
       report.correction_m = (keyframes[k]->T_wc().t - before.t).norm();
@@ -181,7 +183,10 @@ std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
       continue;
     }
     internal::GraphObject& g = out[o];
-    g.rotation = object.type == SymmetryType::kAsymmetric;
+    // The baselines call every object asymmetric, and their representative
+    // hypothesis flips among a symmetric object's poses: position only.
+    g.rotation = object.type == SymmetryType::kAsymmetric &&
+                 options_.method == Method::kSymba;
     g.T_wo = Rigid3d(object.Rotation(-1), object.position());
     for (const internal::ObjectObservation& observation : object.observations) {
       // A symba detection makes one observation per mode.
@@ -204,15 +209,40 @@ std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
 std::vector<Rigid3d> Backend::Impl::ObjectMoves(
     const std::vector<Rigid3d>& moves,
     const std::vector<internal::GraphObject>& objects,
-    const std::vector<Rigid3d>& object_poses) const {
+    const std::vector<Rigid3d>& object_poses,
+    int window_begin) const {
+  const internal::ObjectList& states = map_.objects();
   std::vector<Rigid3d> out(objects.size());
   for (size_t o = 0; o < objects.size(); ++o) {
+    const internal::ObjectState& state = *states[o];
     const internal::GraphObject& g = objects[o];
-    if (g.keyframes.empty()) continue;
+    if (state.last_keyframe < 0 ||
+        state.status == internal::ObjectStatus::kDropped) {
+      continue;  // never detected in this run, or gone
+    }
+    // Seen from the window only (a tentative object always is): it moves
+    // with the window, as the window's solves placed it.
+    const int first_seen = state.observations.empty()
+                               ? state.last_keyframe
+                               : state.observations.front().keyframe;
+    if (first_seen >= window_begin) {
+      out[o] = moves.back();
+      continue;
+    }
+    if (g.keyframes.empty()) {
+      // Not in the graph (tentative): the mean move of its detectors.
+      std::vector<int> detectors;
+      for (const internal::ObjectObservation& observation :
+           state.observations) {
+        detectors.push_back(observation.keyframe);
+      }
+      out[o] = internal::MeanMove(moves, detectors, state.position());
+      continue;
+    }
     const Rigid3d& after = object_poses[o];
     // An asymmetric object turns as its vertex did; a symmetric one, whose
-    // vertex rotation is free about nothing it can measure, as its
-    // detecting keyframes did on average.
+    // vertex rotation nothing measures, as its detecting keyframes did on
+    // average.
     const Eigen::Quaterniond R =
         g.rotation ? (after.q * g.T_wo.q.inverse()).normalized()
                    : internal::MeanMove(moves, g.keyframes, g.T_wo.t).q;
@@ -227,15 +257,22 @@ void Backend::Impl::ClosePendingLoops() {
 }
 
 void Backend::Impl::MovePast(const std::vector<Rigid3d>& moves,
-                             const std::vector<Rigid3d>& object_moves) {
+                             const std::vector<Rigid3d>& object_moves,
+                             int window_begin) {
   const internal::KeyframeList& keyframes = trajectory_.keyframes();
   const internal::ObjectList& objects = map_.objects();
   const internal::PointList& points = trajectory_.points();
-  // Each point by the mean move of its first and last observer.
+  // Each point seen from the window with the window (so that it stays in
+  // front of the window's cameras), any other by the mean move of its first
+  // and last observer.
   std::vector<Rigid3d> point_moves(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
     const internal::PointState& point = *points[i];
     if (point.last_keyframe < 0) continue;
+    if (point.last_keyframe >= window_begin) {
+      point_moves[i] = moves.back();
+      continue;
+    }
     point_moves[i] =
         internal::MeanMove(moves,
                            {point.first_keyframe, point.last_keyframe},
@@ -260,7 +297,8 @@ void Backend::Impl::MovePast(const std::vector<Rigid3d>& moves,
     object.anchor.a_w0 = object.anchor.q_base * object.anchor.a_o;
     // A discrete object's edges hold its anchor.
     if (object.type == SymmetryType::kDiscrete &&
-        object.status != internal::ObjectStatus::kDropped) {
+        object.status != internal::ObjectStatus::kDropped &&
+        !internal::IsIdentity(W)) {
       edges_.Rebuild(static_cast<int>(o));
     }
   }

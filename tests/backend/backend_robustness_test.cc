@@ -184,6 +184,47 @@ std::vector<KeyframeInput> BoxKeyframes(int n,
   return keyframes;
 }
 
+// A map point seen again behind the camera's initial pose (a front end that
+// jumped, a point moved by a loop closure) cannot be projected: the
+// observation is left out and counted, and the solve goes on.
+TEST(BackendRobustness, APointBehindTheCameraIsLeftOutAndCounted) {
+  std::unique_ptr<Backend> backend;
+  ASSERT_TRUE(Backend::Create(BackendOptions(),
+                              PinholeIntrinsics{500.0, 500.0, 320.0, 240.0},
+                              {},
+                              &backend)
+                  .ok());
+  KeyframeInput first;
+  first.id = 0;
+  first.T_wc = Rigid3d();
+  first.points = {{1, Eigen::Vector2d(320.0, 240.0), 2.0},
+                  {2, Eigen::Vector2d(300.0, 200.0), 3.0}};
+  ASSERT_TRUE(backend->AddKeyframe(first).ok());
+  ASSERT_TRUE(backend->OptimizeWindow().ok());
+  // Turned around: both points are behind; point 2 is seen from in front
+  // again after a step back.
+  KeyframeInput turned;
+  turned.id = 1;
+  turned.timestamp = 1.0;
+  turned.T_wc = Rigid3d(
+      Eigen::Quaterniond(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitY())),
+      Eigen::Vector3d::Zero());
+  turned.points = {{1, Eigen::Vector2d(320.0, 240.0), std::nullopt}};
+  ASSERT_TRUE(backend->AddKeyframe(turned).ok());
+  EXPECT_EQ(backend->Statistics().point_observations_behind, 1);
+  const Status status = backend->OptimizeWindow();
+  EXPECT_TRUE(status.ok()) << status.message();
+  KeyframeInput back;
+  back.id = 2;
+  back.timestamp = 2.0;
+  back.T_wc =
+      Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.0, 0.0, -1.0));
+  back.points = {{2, Eigen::Vector2d(305.0, 210.0), std::nullopt}};
+  ASSERT_TRUE(backend->AddKeyframe(back).ok());
+  EXPECT_EQ(backend->Statistics().point_observations_behind, 1);
+  EXPECT_TRUE(backend->OptimizeWindow().ok());
+}
+
 TEST(BackendRobustness, TentativeObjectsAreConfirmedOrDropped) {
   BackendOptions options;
   options.confirm_keyframes = 3;

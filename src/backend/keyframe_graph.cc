@@ -7,7 +7,7 @@
 namespace symba::internal {
 namespace {
 
-Matrix6d IsotropicInformation(double sigma_t, double sigma_r) {
+Matrix6d DiagonalInformation(double sigma_t, double sigma_r) {
   Matrix6d information = Matrix6d::Zero();
   information.topLeftCorner<3, 3>().diagonal().setConstant(1.0 /
                                                            (sigma_t * sigma_t));
@@ -42,10 +42,10 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
     edge.to = k;
     edge.T_ab = Normalized(graph.poses.at(k - 1).Inverse() * graph.poses.at(k));
     edge.information =
-        stated ? IsotropicInformation(std::sqrt(kf.motion_variance_t),
-                                      std::sqrt(kf.motion_variance_r))
-               : IsotropicInformation(kUnstatedMotionSigmaT,
-                                      kUnstatedMotionSigmaR);
+        stated
+            ? DiagonalInformation(std::sqrt(kf.motion_variance_t),
+                                  std::sqrt(kf.motion_variance_r))
+            : DiagonalInformation(kUnstatedMotionSigmaT, kUnstatedMotionSigmaR);
     graph.edges.push_back(std::move(edge));
   }
   for (const LoopConstraint& loop : loops) {
@@ -53,7 +53,7 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
     edge.from = loop.earlier;
     edge.to = loop.later;
     edge.T_ab = Normalized(loop.T);
-    edge.information = IsotropicInformation(loop.sigma_t, loop.sigma_r);
+    edge.information = DiagonalInformation(loop.sigma_t, loop.sigma_r);
     graph.edges.push_back(std::move(edge));
   }
   for (size_t o = 0; o < objects.size(); ++o) {

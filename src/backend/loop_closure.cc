@@ -139,29 +139,22 @@ LoopClosureReport Backend::Impl::CloseLoop(int k,
       report.message = status.message();
     }
   }
-  if (!report.message.empty()) {
+  if (report.message.empty()) {
+    // The constraint, in every later solve that holds the later keyframe.
+    internal::KeyframeState& a = *keyframes[loop.earlier];
+    internal::KeyframeState& b = *keyframes[loop.later];
+    internal::FactorRecord record;
+    record.cost.reset(RelativePoseFactor::Create(
+        loop.T, IsotropicPoseSqrtInfo(loop.sigma_t, loop.sigma_r)));
+    record.blocks = {a.q, a.t, b.q, b.t};
+    record.keyframe = loop.later;
+    record.keyframe2 = loop.earlier;
+    graph_.Add(std::move(record));
+  } else {
     // Without the moved past, the closure would kink the window against
     // the held keyframes: it is left out (reported), also of later graphs.
     loops_.pop_back();
-    report.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-            .count();
-    ++statistics_.loop_closures;
-    statistics_.loop_closure_seconds += report.seconds;
-    loop_closures_.push_back(report);
-    return report;
   }
-
-  // The constraint, in every later solve that holds the later keyframe.
-  internal::KeyframeState& a = *keyframes[loop.earlier];
-  internal::KeyframeState& b = *keyframes[loop.later];
-  internal::FactorRecord record;
-  record.cost.reset(RelativePoseFactor::Create(
-      loop.T, IsotropicPoseSqrtInfo(loop.sigma_t, loop.sigma_r)));
-  record.blocks = {a.q, a.t, b.q, b.t};
-  record.keyframe = loop.later;
-  record.keyframe2 = loop.earlier;
-  graph_.Add(std::move(record));
 
   report.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)

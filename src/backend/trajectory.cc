@@ -120,6 +120,7 @@ void Trajectory::AddPointObservations(int k, const KeyframeInput& input) {
   KeyframeState& kf = *keyframes_[k];
   const Eigen::Matrix2d sqrt_info =
       Eigen::Matrix2d::Identity() / options_.point_sigma_px;
+  const Rigid3d T_cw = kf.T_wc().Inverse();
   for (const PointObservation& obs : input.points) {
     auto it = point_index_.find(obs.id);
     if (it == point_index_.end()) {
@@ -140,8 +141,7 @@ void Trajectory::AddPointObservations(int k, const KeyframeInput& input) {
     // could not start from it (a point moved by a loop closure, a front end
     // that jumped). The observation is left out.
     const Eigen::Vector3d p_c =
-        kf.T_wc().Inverse() *
-        Eigen::Map<const Eigen::Vector3d>(points_[it->second]->p);
+        T_cw * Eigen::Map<const Eigen::Vector3d>(points_[it->second]->p);
     if (p_c.z() <= ReprojectionFactor::kMinDepth) {
       ++statistics_->point_observations_behind;
       continue;

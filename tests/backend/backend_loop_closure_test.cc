@@ -8,6 +8,7 @@
 //     the run stays near it;
 //   - a loop closure the estimate already satisfies moves nothing;
 //   - bad loop closures are refused and change nothing.
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <set>
@@ -113,6 +114,23 @@ TEST(BackendLoopClosure, CorrectsTheWholePastOfADriftingOdometry) {
   EXPECT_EQ(statistics.loop_closures_moved_past, 1);
 }
 
+// One map object per scripted object, each within 0.1 m of the truth.
+void ExpectOneMapObjectPerObjectNearTheTruth(const Backend& backend,
+                                             const ScriptedSequenceSpec& spec) {
+  std::set<ObjectId> mapped;
+  for (const DetectionAssignment& a : backend.Assignments()) {
+    if (a.object >= 0) mapped.insert(a.object);
+  }
+  EXPECT_EQ(mapped.size(), spec.objects.size());
+  for (const MapObjectEstimate& object : backend.Objects()) {
+    double nearest = 1e9;
+    for (const auto& truth : spec.objects) {
+      nearest = std::min(nearest, (object.t_wo - truth.T_wo.t).norm());
+    }
+    EXPECT_LT(nearest, 0.1) << "object " << object.id;
+  }
+}
+
 TEST(BackendLoopClosure, MovesObjectsAndPointsWithThePast) {
   ScriptedSequenceSpec spec;
   testing::ScriptedObject table;
@@ -128,26 +146,19 @@ TEST(BackendLoopClosure, MovesObjectsAndPointsWithThePast) {
   spec.detection_sigma_r = 0.05;
   spec.seed = 7;
   const ScriptedSequence seq = GenerateScriptedSequence(spec);
-  const std::unique_ptr<Backend> open = Replay(seq, {});
   const std::unique_ptr<Backend> closed = Replay(seq, {{0, 40}, {0, 80}});
   EXPECT_EQ(closed->Statistics().loop_closures_moved_past, 2);
+  ExpectOneMapObjectPerObjectNearTheTruth(*closed, spec);
+#ifdef SYMBA_SANITIZED
+  // The run without closures adds no code path and takes several seconds
+  // under ASan + UBSan; the optimised build compares with it.
+  GTEST_SKIP() << "the comparison with the open run is the optimised build's";
+#endif
+  const std::unique_ptr<Backend> open = Replay(seq, {});
   // The objects kept this run near the truth already (0.018 m); the keyframe
   // graph knows the keyframes only by their motion, so it spreads the small
   // error the loop reveals along the chain (0.022 m).
   EXPECT_LT(KeyframeRmse(*closed, seq), 1.5 * KeyframeRmse(*open, seq));
-  // One map object per object, each near the truth.
-  std::set<ObjectId> mapped;
-  for (const DetectionAssignment& a : closed->Assignments()) {
-    if (a.object >= 0) mapped.insert(a.object);
-  }
-  EXPECT_EQ(mapped.size(), 2u);
-  for (const MapObjectEstimate& object : closed->Objects()) {
-    double nearest = 1e9;
-    for (const auto& truth : spec.objects) {
-      nearest = std::min(nearest, (object.t_wo - truth.T_wo.t).norm());
-    }
-    EXPECT_LT(nearest, 0.1) << "object " << object.id;
-  }
 }
 
 // The error of the map object nearest to `truth`.

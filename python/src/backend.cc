@@ -290,6 +290,7 @@ void BindEstimates(py::module_& m) {
       .def_readonly("initial_cost", &L::initial_cost)
       .def_readonly("final_cost", &L::final_cost)
       .def_readonly("seconds", &L::seconds)
+      .def_readonly("waiting", &L::waiting)
       .def_readonly("message", &L::message)
       .def("__repr__", [](const py::handle& self) {
         return AttributeRepr(self,

@@ -427,7 +427,7 @@ const std::vector<DetectionAssignment>& Backend::Assignments() const {
 }
 
 std::vector<LoopClosureReport> Backend::LoopClosures() const {
-  return Run().loop_closures_;
+  return Run().LoopClosures();
 }
 
 Status Backend::AddLoopClosure(KeyframeId keyframe,

@@ -51,6 +51,8 @@ class Backend::Impl {
   std::optional<KeyframeEstimate> Keyframe(KeyframeId id) const;
   std::optional<MapObjectEstimate> Object(ObjectId id) const;
   std::vector<ClassNoiseEstimate> Noise() const;
+  // The closed loops' reports and the waiting ones'.
+  std::vector<LoopClosureReport> LoopClosures() const;
   Status ObjectCovariances(std::vector<MapObjectCovariance>* covariances);
   // A map that lasts (saved_map.cc, docs/map-format.md).
   Status SaveMap(SavedMap* map);
@@ -98,6 +100,8 @@ class Backend::Impl {
                           const LoopClosureInput& closure,
                           const std::string& prefix) const;
   LoopClosureReport CloseLoop(int k, const LoopClosureInput& closure);
+  // The report of a closure of keyframe k that waits for a solve.
+  LoopClosureReport WaitingReport(int k, const LoopClosureInput& closure) const;
   // The keyframes' loop closures waiting for their window solve.
   void ClosePendingLoops();
   // The confirmed objects as the keyframe graph holds them (by index; the

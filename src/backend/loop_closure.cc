@@ -69,17 +69,30 @@ Status Backend::Impl::AddLoopClosure(KeyframeId keyframe,
   const int other = trajectory_.IndexOf(closure.keyframe);
   if (std::max(k, other) >= solved_keyframes_) {
     pending_loops_.emplace_back(k, closure);
-    if (report != nullptr) {
-      *report = LoopClosureReport();
-      report->keyframe = keyframe;
-      report->other = closure.keyframe;
-      report->message = "waits for the next solve";
-    }
+    if (report != nullptr) *report = WaitingReport(k, closure);
     return Status::Ok();
   }
   const LoopClosureReport done = CloseLoop(k, closure);
   if (report != nullptr) *report = done;
   return Status::Ok();
+}
+
+LoopClosureReport Backend::Impl::WaitingReport(
+    int k, const LoopClosureInput& closure) const {
+  LoopClosureReport report;
+  report.keyframe = trajectory_.keyframes()[k]->id;
+  report.other = closure.keyframe;
+  report.waiting = true;
+  report.message = "waits for the next solve";
+  return report;
+}
+
+std::vector<LoopClosureReport> Backend::Impl::LoopClosures() const {
+  std::vector<LoopClosureReport> reports = loop_closures_;
+  for (const auto& [k, closure] : pending_loops_) {
+    reports.push_back(WaitingReport(k, closure));
+  }
+  return reports;
 }
 
 LoopClosureReport Backend::Impl::CloseLoop(int k,

@@ -144,14 +144,20 @@ void WriteRelocalization(const RelocalizationReport& r, JsonWriter* json) {
   json->EndObject();
 }
 
-// "loop_closures": how many the host gave, how many moved the past, and
-// their times (each one is in loop_closures.csv; docs/loop-closure.md).
+// "loop_closures": how many the host gave, how many moved the past, how
+// many still wait for a solve, and the closed ones' times (each one is in
+// loop_closures.csv; docs/loop-closure.md).
 void WriteLoopClosures(const std::vector<LoopClosureReport>& loops,
                        JsonWriter* json) {
   std::vector<double> seconds;
   int moved_past = 0;
+  int waiting = 0;
   double max_correction_m = 0.0;
   for (const LoopClosureReport& c : loops) {
+    if (c.waiting) {
+      ++waiting;
+      continue;
+    }
     seconds.push_back(c.seconds);
     moved_past += c.moved_past ? 1 : 0;
     max_correction_m = std::max(max_correction_m, c.correction_m);
@@ -165,6 +171,7 @@ void WriteLoopClosures(const std::vector<LoopClosureReport>& loops,
       .BeginObject()
       .Member("count", static_cast<int>(loops.size()))
       .Member("moved_past", moved_past)
+      .Member("waiting", waiting)
       .Member("max_correction_m", max_correction_m)
       .Member("median_seconds", median)
       .Member("max_seconds", seconds.empty() ? 0.0 : seconds.back())

@@ -95,6 +95,21 @@ def test_add_loop_closure_is_reported_and_pickled():
                                   backend.keyframes().poses)
 
 
+def test_a_closure_waiting_for_a_solve_is_reported_as_waiting():
+    truth = orbit()
+    keyframes = drifting_keyframes(truth)
+    backend = replay(keyframes[:-1])
+    backend.add_keyframe(keyframes[-1])
+    report = backend.add_loop_closure(40, closure_to_start(truth, 40))
+    assert report.waiting and not report.moved_past
+    assert report.message == "waits for the next solve"
+    (listed,) = backend.loop_closures()
+    assert (listed.keyframe, listed.other, listed.waiting) == (40, 0, True)
+    backend.optimize_window()
+    (listed,) = backend.loop_closures()
+    assert listed.moved_past and not listed.waiting and listed.message == ""
+
+
 def test_bad_loop_closures_raise():
     truth = orbit(n=8)
     backend = replay(drifting_keyframes(truth))

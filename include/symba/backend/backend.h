@@ -127,7 +127,9 @@ class Backend {
   std::vector<KeyframeEstimate> Keyframes() const;
   std::vector<MapObjectEstimate> Objects() const;
   const std::vector<DetectionAssignment>& Assignments() const;
-  // Every loop closure so far, in the order they were added.
+  // Every loop closure so far: those closed, in the order they were
+  // closed, then those still waiting for a solve (moved_past false,
+  // message "waits for the next solve").
   std::vector<LoopClosureReport> LoopClosures() const;
   BackendStatistics Statistics() const;
   // Per class with detections, sorted by name: the detection noise

@@ -15,6 +15,9 @@ struct LoopClosureReport {
   // it relates it to.
   KeyframeId keyframe = 0;
   KeyframeId other = 0;
+  // Not closed yet: one of its keyframes waits for a solve (nothing below
+  // is set but the message).
+  bool waiting = false;
   // The other keyframe had left the window: the keyframe graph was
   // optimised and every keyframe, object and point moved with it.
   bool moved_past = false;
@@ -28,8 +31,8 @@ struct LoopClosureReport {
   double final_cost = 0.0;
   double seconds = 0.0;  // the whole event
   // Empty unless the keyframe graph's solve failed: the past then stays
-  // where it was and the closure is left out. AddLoopClosure's report of a
-  // closure that waits for the next solve says "waits for the next solve".
+  // where it was and the closure is left out. A waiting closure's report
+  // says "waits for the next solve".
   std::string message;
 };
 

@@ -104,7 +104,7 @@ def main():
                              args.to == "latest")
     for name, given in [("as it is", {}), ("host loop closures", closures)]:
         backend, rmse, times = replay(symba, header, keyframes, truth, given)
-        reports = backend.loop_closures()
+        reports = [r for r in backend.loop_closures() if not r.waiting]
         seconds = np.array([r.seconds for r in reports]) if reports else None
         closing = set(given)
         ordinary = np.array([t for k, t in enumerate(times)

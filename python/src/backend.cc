@@ -297,6 +297,7 @@ void BindEstimates(py::module_& m) {
                              "LoopClosureReport",
                              {"keyframe",
                               "other",
+                              "waiting",
                               "moved_past",
                               "correction_m",
                               "correction_deg"});
@@ -533,7 +534,9 @@ void BindBackend(py::module_& m) {
       .def(
           "loop_closures",
           [](const J& self) { return self.backend().LoopClosures(); },
-          "Every loop closure so far (LoopClosureReport), in order.")
+          "Every loop closure so far (LoopClosureReport): the closed ones "
+          "in the order they were closed, then the waiting ones "
+          "(waiting=True).")
       .def("give_up_relocalization",
            &J::GiveUpRelocalization,
            "Ends a search that has not matched: the run goes on in its own "

@@ -244,11 +244,13 @@ TEST(BackendLoopClosure, AClosureOfAnUnsolvedKeyframeWaitsForTheSolve) {
   EXPECT_EQ(run->LoopClosures()[0].message, "waits for the next solve");
   EXPECT_EQ(run->LoopClosures()[0].keyframe, seq.keyframes.back().id);
   EXPECT_EQ(run->LoopClosures()[0].other, seq.keyframes[0].id);
+  EXPECT_TRUE(run->LoopClosures()[0].waiting);
   EXPECT_FALSE(run->LoopClosures()[0].moved_past);
   EXPECT_EQ(run->Statistics().loop_closures, 0);
   ASSERT_TRUE(run->OptimizeWindow().ok());
   ASSERT_EQ(run->LoopClosures().size(), 1u);
   EXPECT_TRUE(run->LoopClosures()[0].moved_past);
+  EXPECT_FALSE(run->LoopClosures()[0].waiting);
   EXPECT_TRUE(run->LoopClosures()[0].message.empty());
   // As if the closure had come with the keyframe.
   const std::vector<KeyframeEstimate> a = run->Keyframes();

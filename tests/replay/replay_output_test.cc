@@ -311,5 +311,33 @@ TEST(ReplayOutputTest, AnOutputMustNotBeOrHoldAnInput) {
       << "a directory whose name is a prefix of the input's is not its parent";
 }
 
+// summary.json's "loop_closures": the waiting closure is counted as such
+// and left out of the times and corrections, which are the closed ones'.
+TEST(ReplaySummaryJson, LoopClosuresCountTheWaitingOnesApart) {
+  ReplayResult result;
+  LoopClosureReport closed;
+  closed.moved_past = true;
+  closed.correction_m = 0.5;
+  closed.seconds = 0.25;
+  LoopClosureReport waiting;
+  waiting.waiting = true;
+  waiting.message = "waits for the next solve";
+  result.loop_closures = {closed, waiting};
+  const std::string json =
+      FormatReplaySummaryJson("log.jsonl", ReplayOptions(), result);
+  const std::vector<std::string> members = {"\"loop_closures\": {",
+                                            "\"count\": 2",
+                                            "\"moved_past\": 1",
+                                            "\"waiting\": 1",
+                                            "\"max_correction_m\": 0.5",
+                                            "\"median_seconds\": 0.25",
+                                            "\"max_seconds\": 0.25"};
+  size_t at = 0;
+  for (const std::string& member : members) {
+    at = json.find(member, at);
+    ASSERT_NE(at, std::string::npos) << member << "\n" << json;
+  }
+}
+
 }  // namespace
 }  // namespace symba

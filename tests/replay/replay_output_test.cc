@@ -179,6 +179,16 @@ TEST(ReplayOutputTest, SummaryJsonReportsTheWindowCounters) {
   }
 }
 
+// Each of `members` occurs in `json`, in this order.
+void ExpectMembersInOrder(const std::string& json,
+                          const std::vector<std::string>& members) {
+  size_t at = 0;
+  for (const std::string& member : members) {
+    at = json.find(member, at);
+    ASSERT_NE(at, std::string::npos) << member << "\n" << json;
+  }
+}
+
 TEST(ReplayOutputTest, SummaryJsonReportsWhatTheBackendBelievedOfTheNoise) {
   ReplayResult result;
   ClassNoiseEstimate box;
@@ -212,11 +222,7 @@ TEST(ReplayOutputTest, SummaryJsonReportsWhatTheBackendBelievedOfTheNoise) {
                                             "\"rotation\": {",
                                             "\"levels\": 0",
                                             "\"sigma_level\": null"};
-  size_t at = 0;
-  for (const std::string& member : members) {
-    at = json.find(member, at);
-    ASSERT_NE(at, std::string::npos) << member << "\n" << json;
-  }
+  ExpectMembersInOrder(json, members);
   // Without estimate_noise there is nothing to report: an empty list.
   EXPECT_NE(FormatReplaySummaryJson("log.jsonl", ReplayOptions(), {})
                 .find("\"noise\": []"),
@@ -332,11 +338,7 @@ TEST(ReplaySummaryJson, LoopClosuresCountTheWaitingOnesApart) {
                                             "\"max_correction_m\": 0.5",
                                             "\"median_seconds\": 0.25",
                                             "\"max_seconds\": 0.25"};
-  size_t at = 0;
-  for (const std::string& member : members) {
-    at = json.find(member, at);
-    ASSERT_NE(at, std::string::npos) << member << "\n" << json;
-  }
+  ExpectMembersInOrder(json, members);
 }
 
 }  // namespace

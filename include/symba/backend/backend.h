@@ -128,8 +128,8 @@ class Backend {
   std::vector<MapObjectEstimate> Objects() const;
   const std::vector<DetectionAssignment>& Assignments() const;
   // Every loop closure so far: those closed, in the order they were
-  // closed, then those still waiting for a solve (moved_past false,
-  // message "waits for the next solve").
+  // closed, then those still waiting for a solve (waiting true, message
+  // "waits for the next solve").
   std::vector<LoopClosureReport> LoopClosures() const;
   BackendStatistics Statistics() const;
   // Per class with detections, sorted by name: the detection noise

@@ -258,6 +258,8 @@ void BindEstimates(py::module_& m) {
       .def_readonly("loop_closures", &S::loop_closures)
       .def_readonly("loop_closures_moved_past", &S::loop_closures_moved_past)
       .def_readonly("loop_closure_seconds", &S::loop_closure_seconds)
+      .def_readonly("object_loop_closures", &S::object_loop_closures)
+      .def_readonly("objects_merged", &S::objects_merged)
       .def("__repr__", [](const py::handle& self) {
         return AttributeRepr(self,
                              "BackendStatistics",
@@ -274,7 +276,22 @@ void BindEstimates(py::module_& m) {
                               "solves",
                               "solve_seconds",
                               "solve_iterations",
-                              "loop_closures"});
+                              "loop_closures",
+                              "object_loop_closures",
+                              "objects_merged"});
+      });
+
+  using P = LoopObjectPair;
+  py::class_<P>(m,
+                "LoopObjectPair",
+                "A map object a revisit mapped again, and whether the "
+                "duplicate was merged into it (docs/loop-closure.md).")
+      .def_readonly("map", &P::map)
+      .def_readonly("duplicate", &P::duplicate)
+      .def_readonly("merged", &P::merged)
+      .def("__repr__", [](const py::handle& self) {
+        return AttributeRepr(
+            self, "LoopObjectPair", {"map", "duplicate", "merged"});
       });
 
   using L = LoopClosureReport;
@@ -292,11 +309,14 @@ void BindEstimates(py::module_& m) {
       .def_readonly("seconds", &L::seconds)
       .def_readonly("waiting", &L::waiting)
       .def_readonly("message", &L::message)
+      .def_readonly("from_objects", &L::from_objects)
+      .def_readonly("objects", &L::objects)
       .def("__repr__", [](const py::handle& self) {
         return AttributeRepr(self,
                              "LoopClosureReport",
                              {"keyframe",
                               "other",
+                              "from_objects",
                               "waiting",
                               "moved_past",
                               "correction_m",

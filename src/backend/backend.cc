@@ -156,9 +156,15 @@ Status Backend::Impl::OptimizeWindow(SolveReport* report) {
   if (outcome.usable) {
     solved_keyframes_ = static_cast<int>(trajectory_.keyframes().size());
   }
-  if (!pending_loops_.empty() && outcome.usable) {
+  bool closed = false;
+  if (outcome.usable) {
+    closed = !pending_loops_.empty();
     ClosePendingLoops();
-    // The window again, from the moved past and with the loop constraints.
+    closed = DetectObjectLoop() || closed;
+  }
+  if (closed) {
+    // The window again, from the moved past, with the loop constraints and
+    // the merged objects.
     internal::SolveOutcome again;
     graph_.SolveWindow(first, &again);
     again.iterations += outcome.iterations;

@@ -6,6 +6,8 @@
 // member functions are defined in
 //   backend.cc      AddKeyframe, the solves, read-back
 //   detections.cc   a keyframe's detections, per method
+//   loop_closure.cc loop closures, the past moved with them
+//   object_loops.cc loops found from the objects, duplicates merged
 //   saved_map.cc    SaveMap, LoadMap
 // Association (association.h), detection observations
 // (detection_observations.h) and input checks (keyframe_validation.h) are
@@ -104,6 +106,41 @@ class Backend::Impl {
   LoopClosureReport WaitingReport(int k, const LoopClosureInput& closure) const;
   // The keyframes' loop closures waiting for their window solve.
   void ClosePendingLoops();
+  // Loops found from the objects (object_loops.cc): after a window solve
+  // that follows an object's confirmation, a loop closed where the recent
+  // objects match earlier ones (CloseLoopFromObjects), then the duplicates
+  // that lie on earlier objects merged (MergeRevisitedDuplicates); true if
+  // either changed the map.
+  bool DetectObjectLoop();
+  bool CloseLoopFromObjects();
+  // Each recent confirmed object that is, within the association gates,
+  // the one earlier object of its class and type last detected before it
+  // was first detected is merged into it; returns how many.
+  int MergeRevisitedDuplicates();
+  // Whether a and b are one object by the association gates: positions
+  // within gate_sigmas of their uncertainty (PositionSigma) and
+  // gate_position, and rotation (gate_rotation), axis (gate_axis) or one
+  // pair of angles (gate_angle) as their type has.
+  bool SameObject(const internal::ObjectState& a,
+                  const internal::ObjectState& b) const;
+  // Object o's position noise from its detections (m): their sigma_t as
+  // the association takes it, over sqrt(keyframes that detected it).
+  double PositionSigma(const internal::ObjectState& o) const;
+  struct LoopCandidates {
+    std::vector<MapObjectEstimate> recent;   // first detected recently
+    std::vector<MapObjectEstimate> earlier;  // last detected before them
+  };
+  LoopCandidates ObjectLoopCandidates() const;
+  // Whether `correction` (T_wc <- correction T_wc) of keyframe `later` is
+  // within loop_drift_factor times the drift the camera motion could have
+  // made since keyframe `earlier` (and the matcher's gates).
+  bool WithinPossibleDrift(int earlier,
+                           int later,
+                           const Rigid3d& correction) const;
+  // Duplicate `from` merged into `into` (ObjectMap::MergeInto), its
+  // observations added to `into` with its angles; false (nothing done) if
+  // their symmetry types differ.
+  bool MergeDuplicate(int from, int into);
   // The confirmed objects as the keyframe graph holds them (by index; the
   // others without keyframes).
   std::vector<internal::GraphObject> GraphObjects() const;
@@ -135,6 +172,8 @@ class Backend::Impl {
   // Keyframes before this index have been through a solve: a closure of a
   // later one waits for the next (its pose is a prediction until then).
   int solved_keyframes_ = 0;
+  // ObjectMap::confirmations() when DetectObjectLoop last looked.
+  int confirmations_checked_ = 0;
   // One categorization per detection of the keyframe being added, reused
   // between keyframes.
   std::vector<CategorizedDetection> categorized_;

@@ -272,12 +272,50 @@ void AppendRealDetectorOptions(OptionTable<BackendOptions>* table) {
       });
 }
 
+void AppendLoopOptions(OptionTable<BackendOptions>* table) {
+  using O = BackendOptions;
+  table->insert(
+      table->end(),
+      {
+          BoolOption<O>("detect_loops",
+                        &O::detect_loops,
+                        "find loop closures from the objects and merge the "
+                        "objects a revisit mapped again"),
+          IntOption<O>("loop_min_objects",
+                       &O::loop_min_objects,
+                       AtLeast(2),
+                       "recognised objects a loop found from objects needs"),
+          IntOption<O>("loop_recent_keyframes",
+                       &O::loop_recent_keyframes,
+                       AtLeast(1),
+                       "objects first detected this recently are matched "
+                       "against the older map"),
+          DoubleOption<O>("loop_drift_factor",
+                          &O::loop_drift_factor,
+                          "",
+                          Positive(),
+                          "a loop's correction must be within this times "
+                          "the drift the stated motion noise allows"),
+          DoubleOption<O>("loop_sigma_t",
+                          &O::loop_sigma_t,
+                          "m",
+                          Positive(),
+                          "position noise of a loop found from objects"),
+          DoubleOption<O>("loop_sigma_r",
+                          &O::loop_sigma_r,
+                          "rad",
+                          Positive(),
+                          "rotation noise of a loop found from objects"),
+      });
+}
+
 OptionTable<BackendOptions> MakeBackendTable() {
   OptionTable<BackendOptions> table;
   AppendWindowOptions(&table);
   AppendObjectEdgeOptions(&table);
   AppendCameraAndGateOptions(&table);
   AppendRealDetectorOptions(&table);
+  AppendLoopOptions(&table);
   AppendNested("categorization",
                &BackendOptions::categorization,
                CategorizationOptionTable(),

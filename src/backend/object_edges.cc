@@ -51,6 +51,7 @@ ObjectEdges::ObjectEdges(const BackendOptions& options,
 void ObjectEdges::Add(int o, ObjectObservation observation) {
   ObjectState& object = *objects_[o];
   object.observations.push_back(std::move(observation));
+  if (object.observations.back().components.empty()) return;
   AddFactor(o, static_cast<int>(object.observations.size()) - 1);
 }
 
@@ -79,6 +80,9 @@ void ObjectEdges::Rebuild(int o, int begin, int end) {
   ObjectState& object = *objects_[o];
   for (int i = begin; i < end; ++i) {
     ObjectObservation& observation = object.observations[i];
+    // Its hypotheses were freed when its keyframe left the window (without
+    // keep_history): no edge can be built, and no solve would use one.
+    if (observation.components.empty()) continue;
     if (observation.factor >= 0) graph_->Retire(observation.factor);
     AddFactor(o, i);
   }

@@ -30,7 +30,9 @@ class ObjectEdges {
               ObjectList* objects,
               FactorGraph* graph);
 
-  // Object o's next observation and its edge.
+  // Object o's next observation and its edge (none if its hypotheses were
+  // freed: a merged duplicate's observation from a keyframe that left the
+  // window without keep_history).
   void Add(int o, ObjectObservation observation);
   // Rebuilds the edges of object o's observations still in the window (all
   // under condition); the older ones become stale (ObjectState).

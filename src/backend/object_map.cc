@@ -60,6 +60,7 @@ int ObjectMap::Create(const std::string& class_name,
     tentative_.push_back(created.id);
   } else {
     ++statistics_->objects;
+    ++confirmations_;
   }
   return created.id;
 }
@@ -103,6 +104,7 @@ void ObjectMap::UpdateTentative(int k) {
     if (object.keyframes_seen >= options_.confirm_keyframes) {
       object.status = ObjectStatus::kConfirmed;
       ++statistics_->objects;
+      ++confirmations_;
     } else if (k - object.last_keyframe >= options_.tentative_timeout) {
       Drop(o);
     } else {
@@ -146,6 +148,59 @@ void ObjectMap::Drop(int o) {
   object.prior_factor = -1;
   for (int a : object.assignments) (*assignments_)[a].object = -1;
   ++statistics_->objects_dropped;
+}
+
+std::vector<ObjectObservation> ObjectMap::MergeInto(int from, int into) {
+  ObjectState& duplicate = *objects_[from];
+  ObjectState& object = *objects_[into];
+  duplicate.status = ObjectStatus::kDropped;
+  for (ObjectObservation& observation : duplicate.observations) {
+    if (observation.factor >= 0) graph_->Retire(observation.factor);
+    observation.factor = -1;
+  }
+  // What its detections that left the window told about it is lost with
+  // its prior: a few detections, against the merged object's own.
+  if (duplicate.prior_factor >= 0) graph_->Retire(duplicate.prior_factor);
+  duplicate.prior_factor = -1;
+  for (int a : duplicate.assignments) {
+    (*assignments_)[a].object = object.id;
+    object.assignments.push_back(a);
+  }
+  duplicate.assignments.clear();
+  object.detections += duplicate.detections;
+  object.keyframes_seen += duplicate.keyframes_seen;
+  object.keyframes_in_view += duplicate.keyframes_in_view;
+  object.keyframes_seen_in_view += duplicate.keyframes_seen_in_view;
+  object.last_keyframe =
+      std::max(object.last_keyframe, duplicate.last_keyframe);
+  object.flips.insert(
+      object.flips.end(), duplicate.flips.begin(), duplicate.flips.end());
+  // The noise samples go on from the duplicate's detections: the front
+  // end's chain has drifted since the object was last seen, and a level
+  // measured against its old mean would be the drift, not the detector.
+  object.chain_position_sum = duplicate.chain_position_sum;
+  object.chain_rotation_sum = duplicate.chain_rotation_sum;
+  object.chain_count = duplicate.chain_count;
+  object.chain_rotation_count = duplicate.chain_rotation_count;
+  object.chain_last_keyframe = duplicate.chain_last_keyframe;
+  object.chain_last_position = duplicate.chain_last_position;
+  object.chain_last_rotation = duplicate.chain_last_rotation;
+  --statistics_->objects;
+  ++statistics_->objects_merged;
+  return std::move(duplicate.observations);
+}
+
+int ObjectMap::MatchOrAddAngle(int o, const Eigen::Quaterniond& R_wo) {
+  const int angle = FindAngle(*objects_[o], R_wo, options_.gate_angle);
+  return angle >= 0 ? angle : AddAngle(o, R_wo);
+}
+
+int ObjectMap::AddAngle(int o, const Eigen::Quaterniond& R_wo) {
+  ObjectState& object = *objects_[o];
+  object.thetas.push_back(
+      std::make_unique<double>(NewAngleTheta(object, R_wo)));
+  object.angle_evidence.push_back(0.0);
+  return static_cast<int>(object.thetas.size()) - 1;
 }
 
 void ObjectMap::Load(const MapObjectEstimate& e) {
@@ -305,10 +360,7 @@ int ObjectMap::MatchOrAddAngle(int o,
       return folded.angle;
     }
   }
-  object.thetas.push_back(
-      std::make_unique<double>(NewAngleTheta(object, R_wo)));
-  object.angle_evidence.push_back(0.0);
-  return static_cast<int>(object.thetas.size()) - 1;
+  return AddAngle(o, R_wo);
 }
 
 void ObjectMap::AddAngleEvidence(int o, int angle, double share) {

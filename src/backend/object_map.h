@@ -100,6 +100,19 @@ class ObjectMap {
                    const Eigen::Vector3d& t_co,
                    const std::optional<Eigen::Quaterniond>& R_co);
 
+  // Loops found from the objects (docs/loop-closure.md): duplicate object
+  // `from` (confirmed, first detected after `into` was last) is merged into
+  // `into` of the same class and type. `from` is gone (its edges and prior
+  // retired, its detections and their assignments now `into`'s); the
+  // observations it had are returned, for the caller to add to `into`
+  // (their factor -1, a discrete one's angle still `from`'s).
+  std::vector<ObjectObservation> MergeInto(int from, int into);
+  // Discrete object o's angle nearest to the world rotation R_wo within
+  // gate_angle, or a new one at R_wo.
+  int MatchOrAddAngle(int o, const Eigen::Quaterniond& R_wo);
+  // How many objects were confirmed so far (never decreases).
+  int confirmations() const { return confirmations_; }
+
   // A confirmed object from a saved map (Backend::LoadMap) with id and
   // index `e.id` (the indices below it that no loaded object takes are
   // dropped placeholders) and the prior of its covariance, if any. Before
@@ -108,6 +121,8 @@ class ObjectMap {
 
  private:
   void Drop(int o);
+  // A new angle of discrete object o at the world rotation R_wo.
+  int AddAngle(int o, const Eigen::Quaterniond& R_wo);
   // The class prior's symmetry order when it applies to object o (discrete
   // prior, order >= 2, axis along the object's a_o), else 0.
   int KnownOrder(int o) const;
@@ -123,6 +138,7 @@ class ObjectMap {
   ObjectList objects_;
   std::map<std::string, std::vector<int>> objects_by_class_;
   std::vector<int> tentative_;  // indices
+  int confirmations_ = 0;
   double view_cone_cos_ = 1.0;  // cos of the widest detection bearing
   double view_depth_ = 0.0;     // the largest detection distance (m)
   DetectionNoiseEstimator noise_;

@@ -152,6 +152,8 @@ void WriteLoopClosures(const std::vector<LoopClosureReport>& loops,
   std::vector<double> seconds;
   int moved_past = 0;
   int waiting = 0;
+  int from_objects = 0;
+  int objects_merged = 0;
   double max_correction_m = 0.0;
   for (const LoopClosureReport& c : loops) {
     if (c.waiting) {
@@ -160,6 +162,10 @@ void WriteLoopClosures(const std::vector<LoopClosureReport>& loops,
     }
     seconds.push_back(c.seconds);
     moved_past += c.moved_past ? 1 : 0;
+    from_objects += c.from_objects ? 1 : 0;
+    for (const LoopObjectPair& pair : c.objects) {
+      objects_merged += pair.merged ? 1 : 0;
+    }
     max_correction_m = std::max(max_correction_m, c.correction_m);
   }
   std::sort(seconds.begin(), seconds.end());
@@ -172,6 +178,8 @@ void WriteLoopClosures(const std::vector<LoopClosureReport>& loops,
       .Member("count", static_cast<int>(loops.size()))
       .Member("moved_past", moved_past)
       .Member("waiting", waiting)
+      .Member("from_objects", from_objects)
+      .Member("objects_merged", objects_merged)
       .Member("max_correction_m", max_correction_m)
       .Member("median_seconds", median)
       .Member("max_seconds", seconds.empty() ? 0.0 : seconds.back())
@@ -194,14 +202,26 @@ std::string FormatLoopClosuresCsv(
     const std::vector<LoopClosureReport>& loop_closures) {
   std::string out =
       "keyframe,other,moved_past,correction_m,correction_deg,"
-      "keyframes_moved,initial_cost,final_cost,seconds,message\n";
+      "keyframes_moved,initial_cost,final_cost,seconds,message,from_objects,"
+      "objects,merged\n";
   for (const LoopClosureReport& c : loop_closures) {
+    // The recognised objects as "MAP:DUPLICATE" pairs, space-separated.
+    std::string objects;
+    int merged = 0;
+    for (const LoopObjectPair& pair : c.objects) {
+      if (!objects.empty()) objects += " ";
+      objects +=
+          std::to_string(pair.map) + ":" + std::to_string(pair.duplicate);
+      merged += pair.merged ? 1 : 0;
+    }
     out += std::to_string(c.keyframe) + "," + std::to_string(c.other) + "," +
            (c.moved_past ? "true" : "false") + "," +
            FormatDouble(c.correction_m) + "," + FormatDouble(c.correction_deg) +
            "," + std::to_string(c.keyframes_moved) + "," +
            FormatDouble(c.initial_cost) + "," + FormatDouble(c.final_cost) +
-           "," + FormatDouble(c.seconds) + "," + QuoteCsv(c.message) + "\n";
+           "," + FormatDouble(c.seconds) + "," + QuoteCsv(c.message) + "," +
+           (c.from_objects ? "true" : "false") + "," + objects + "," +
+           std::to_string(merged) + "\n";
   }
   return out;
 }
@@ -238,6 +258,7 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
       .Member("points", s.points)
       .Member("object_upgrades", s.object_upgrades)
       .Member("objects_dropped", s.objects_dropped)
+      .Member("objects_merged", s.objects_merged)
       .Member("rotation_outliers", s.rotation_outliers)
       .Member("folded_angles", s.folded_angles)
       .Member("marginalized_keyframes", s.marginalized_keyframes)

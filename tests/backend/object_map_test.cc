@@ -103,6 +103,46 @@ TEST_F(ObjectMapTest, ATentativeObjectIsConfirmedOrDroppedWithItsDetections) {
   EXPECT_EQ(map_->objects()[kept]->keyframes_seen, 3);
 }
 
+// A duplicate merged into the object it is (loops from the objects): its
+// detections and their assignments become the object's, the counts add up,
+// the duplicate is gone and its observations are handed back for the
+// caller's edges; the confirmed count drops by one.
+TEST_F(ObjectMapTest, ADuplicateMergedIntoItsObjectHandsOverItsDetections) {
+  BackendOptions options;
+  options.confirm_keyframes = 1;
+  Build(options);
+  const int object =
+      map_->Create("box", SymmetryType::kAsymmetric, At(1, 2, 3), 0);
+  for (int k = 0; k < 3; ++k) Detect(object, k);
+  const int duplicate =
+      map_->Create("box", SymmetryType::kAsymmetric, At(1.1, 2, 3), 7);
+  for (int k = 7; k < 9; ++k) Detect(duplicate, k);
+  ObjectObservation observation;
+  observation.keyframe = 8;
+  map_->mutable_objects()[duplicate]->observations.push_back(observation);
+  EXPECT_EQ(map_->confirmations(), 2);
+  EXPECT_EQ(statistics_.objects, 2);
+
+  const std::vector<ObjectObservation> handed =
+      map_->MergeInto(duplicate, object);
+  ASSERT_EQ(handed.size(), 1u);
+  EXPECT_EQ(handed[0].keyframe, 8);
+  EXPECT_EQ(map_->objects()[duplicate]->status, ObjectStatus::kDropped);
+  const ObjectState& merged = *map_->objects()[object];
+  EXPECT_EQ(merged.status, ObjectStatus::kConfirmed);
+  EXPECT_EQ(merged.detections, 5);
+  EXPECT_EQ(merged.keyframes_seen, 5);
+  EXPECT_EQ(merged.last_keyframe, 8);
+  EXPECT_EQ(merged.assignments, (std::vector<int>{0, 1, 2, 3, 4}));
+  for (const DetectionAssignment& a : assignments_) {
+    EXPECT_EQ(a.object, object) << a.detection;
+  }
+  EXPECT_EQ(statistics_.objects, 1);
+  EXPECT_EQ(statistics_.objects_merged, 1);
+  EXPECT_EQ(statistics_.objects_dropped, 0);
+  EXPECT_EQ(map_->confirmations(), 2);  // never decreases
+}
+
 // min_support 0.5 over 4 views: an object in view (inside the cone and
 // depth detections were seen in) but detected in 1 of 4 keyframes is
 // dropped; one out of view is not counted.

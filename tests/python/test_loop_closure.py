@@ -75,9 +75,13 @@ def test_a_keyframes_loop_closure_corrects_the_whole_past():
     assert (report.keyframe, report.other, report.moved_past) == (40, 0, True)
     assert report.correction_m > 0.3
     assert report.final_cost < report.initial_cost
+    # The host's closure, not one found from the objects (there are none).
+    assert not report.from_objects and report.objects == []
     statistics = closed.statistics()
     assert statistics.loop_closures == 1
     assert statistics.loop_closures_moved_past == 1
+    assert statistics.object_loop_closures == 0
+    assert statistics.objects_merged == 0
 
 
 def test_add_loop_closure_is_reported_and_pickled():

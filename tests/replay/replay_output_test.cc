@@ -335,10 +335,41 @@ TEST(ReplaySummaryJson, LoopClosuresCountTheWaitingOnesApart) {
                                             "\"count\": 2",
                                             "\"moved_past\": 1",
                                             "\"waiting\": 1",
+                                            "\"from_objects\": 0",
+                                            "\"objects_merged\": 0",
                                             "\"max_correction_m\": 0.5",
                                             "\"median_seconds\": 0.25",
                                             "\"max_seconds\": 0.25"};
   ExpectMembersInOrder(json, members);
+}
+
+// A loop found from the objects: counted in summary.json, its recognised
+// pairs ("MAP:DUPLICATE") and how many were merged in loop_closures.csv.
+TEST(ReplayLoopClosures, ALoopFromObjectsListsItsPairs) {
+  LoopClosureReport host;
+  host.keyframe = 9;
+  host.other = 2;
+  LoopClosureReport found;
+  found.keyframe = 40;
+  found.other = 7;
+  found.moved_past = true;
+  found.from_objects = true;
+  found.objects = {{3, 17, true}, {5, 18, true}, {6, 19, false}};
+  EXPECT_EQ(FormatLoopClosuresCsv({host, found}),
+            "keyframe,other,moved_past,correction_m,correction_deg,"
+            "keyframes_moved,initial_cost,final_cost,seconds,message,"
+            "from_objects,objects,merged\n"
+            "9,2,false,0,0,0,0,0,0,,false,,0\n"
+            "40,7,true,0,0,0,0,0,0,,true,3:17 5:18 6:19,2\n");
+  ReplayResult result;
+  result.loop_closures = {host, found};
+  const std::string json =
+      FormatReplaySummaryJson("log.jsonl", ReplayOptions(), result);
+  ExpectMembersInOrder(json,
+                       {"\"loop_closures\": {",
+                        "\"count\": 2",
+                        "\"from_objects\": 1",
+                        "\"objects_merged\": 2"});
 }
 
 }  // namespace

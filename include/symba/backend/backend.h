@@ -81,9 +81,11 @@ struct BackendStatistics {
   int solve_iterations = 0;
   // observations of a map point behind the camera's initial pose, left out
   int point_observations_behind = 0;
-  int loop_closures = 0;             // relative poses given by the host
+  int loop_closures = 0;  // given by the host or found from the objects
   int loop_closures_moved_past = 0;  // ... that moved the past
   double loop_closure_seconds = 0.0;
+  int object_loop_closures = 0;  // closed loops symba found from the objects
+  int objects_merged = 0;        // duplicates merged into the objects they are
 };
 
 class Backend {

@@ -196,6 +196,24 @@ struct BackendOptions {
   int max_upgrade_order = 4;
   double upgrade_angle_tolerance = 10.0 * kPi / 180.0;  // rad
 
+  // Loops found from the objects (docs/loop-closure.md "Loops from the
+  // objects"). When a keyframe's window solve follows the confirmation of
+  // an object, the confirmed objects first detected in the last
+  // loop_recent_keyframes keyframes are matched (MatchConstellation)
+  // against the confirmed objects last detected before them and before the
+  // window. A unique match of at least loop_min_objects objects whose
+  // correction of the newest keyframe is within loop_drift_factor times
+  // the drift the camera motion could have made since the place was last
+  // seen (every step off by its stated sigma the same way) closes a loop
+  // to that keyframe (a relative pose with loop_sigma_t m, loop_sigma_r
+  // rad) and merges each recognised duplicate into its map object.
+  bool detect_loops = true;
+  int loop_min_objects = 3;
+  int loop_recent_keyframes = 30;
+  double loop_drift_factor = 1.5;
+  double loop_sigma_t = 0.1;   // m
+  double loop_sigma_r = 0.05;  // rad
+
   CategorizationOptions categorization;
 
   // OK, or which option is out of range and why.

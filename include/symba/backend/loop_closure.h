@@ -1,13 +1,24 @@
 // What one loop closure did (docs/loop-closure.md): the two keyframes it
-// relates, whether it moved the past, and how far.
+// relates, whether it moved the past, and how far; for a loop symba found
+// from the objects, which map objects it recognised and merged.
 #ifndef SYMBA_BACKEND_LOOP_CLOSURE_H_
 #define SYMBA_BACKEND_LOOP_CLOSURE_H_
 
 #include <string>
+#include <vector>
 
 #include "symba/backend/ids.h"
 
 namespace symba {
+
+// A map object a revisit mapped again (`duplicate`) and the object it is
+// (`map`); merged: the duplicate's detections now belong to `map` and the
+// duplicate is gone (false: their symmetry types differ, both stay).
+struct LoopObjectPair {
+  ObjectId map = 0;
+  ObjectId duplicate = 0;
+  bool merged = false;
+};
 
 struct LoopClosureReport {
   // The keyframe it was added with (KeyframeInput::loop_closures: the one
@@ -34,6 +45,10 @@ struct LoopClosureReport {
   // where it was and the closure is left out. A waiting closure's report
   // says "waits for the next solve".
   std::string message;
+  // Found by symba from the objects (docs/loop-closure.md "Loops from the
+  // objects"), not given by the host; `objects` are the recognised pairs.
+  bool from_objects = false;
+  std::vector<LoopObjectPair> objects;
 };
 
 }  // namespace symba

@@ -1,0 +1,260 @@
+// Backend::Impl: loops found from the objects (docs/loop-closure.md "Loops
+// from the objects"). When the camera comes back to a place after its pose
+// drifted, the objects there are too far from the map's to be associated
+// and are mapped again. Once such duplicates are confirmed, their
+// constellation is matched against the objects the camera has not seen
+// since before them (MatchConstellation: symmetry-aware, refusing an
+// ambiguous match); a match closes a loop to the keyframe that last saw the
+// place, which moves the past (loop_closure.cc), and each duplicate is then
+// merged into the object it is.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "backend/backend_impl.h"
+#include "symba/matching/constellation_match.h"
+
+namespace symba {
+namespace {
+
+// The sigma of one step's camera motion (m or rad); a step without a
+// stated one counts as in the keyframe graph.
+double StepSigma(double variance, double unstated_sigma) {
+  return variance > 0.0 && std::isfinite(variance) ? std::sqrt(variance)
+                                                   : unstated_sigma;
+}
+
+}  // namespace
+
+Backend::Impl::LoopCandidates Backend::Impl::ObjectLoopCandidates() const {
+  const internal::ObjectList& objects = map_.objects();
+  const int n = static_cast<int>(trajectory_.keyframes().size());
+  const int recent_begin = std::max(0, n - options_.loop_recent_keyframes);
+  LoopCandidates candidates;
+  int first_recent = n;
+  for (const auto& object : objects) {
+    if (object->status != internal::ObjectStatus::kConfirmed ||
+        object->observations.empty() ||
+        object->created_keyframe < recent_begin) {
+      continue;
+    }
+    candidates.recent.push_back(EstimateOf(*object));
+    first_recent = std::min(first_recent, object->created_keyframe);
+  }
+  if (static_cast<int>(candidates.recent.size()) < options_.loop_min_objects) {
+    return candidates;
+  }
+  // Last seen before the recent objects were first seen, and before the
+  // window: their observations all precede the duplicates', and only the
+  // keyframe graph can move the keyframes that saw them.
+  const int seen_before = std::min(first_recent, n - options_.window_size);
+  for (const auto& object : objects) {
+    if (object->status == internal::ObjectStatus::kConfirmed &&
+        !object->observations.empty() && object->last_keyframe >= 0 &&
+        object->last_keyframe < seen_before) {
+      candidates.earlier.push_back(EstimateOf(*object));
+    }
+  }
+  return candidates;
+}
+
+bool Backend::Impl::WithinPossibleDrift(int earlier,
+                                        int later,
+                                        const Rigid3d& correction) const {
+  const internal::KeyframeList& keyframes = trajectory_.keyframes();
+  const Eigen::Vector3d t_later = keyframes[later]->T_wc().t;
+  // The drift if every step erred by its stated sigma the same way (a
+  // front end's drift is a bias more than a random walk): a rotation error
+  // at step i moves the later keyframe by its lever arm too.
+  double bound_t = 0.0;
+  double bound_r = 0.0;
+  for (int i = earlier + 1; i <= later; ++i) {
+    const internal::KeyframeState& kf = *keyframes[i];
+    const double sigma_r =
+        StepSigma(kf.motion_variance_r, internal::kUnstatedMotionSigmaR);
+    bound_t +=
+        StepSigma(kf.motion_variance_t, internal::kUnstatedMotionSigmaT) +
+        sigma_r * (t_later - kf.T_wc().t).norm();
+    bound_r += sigma_r;
+  }
+  const double factor = options_.loop_drift_factor;
+  const ConstellationMatchOptions match;
+  const double angle =
+      2.0 * std::atan2(correction.q.vec().norm(), std::abs(correction.q.w()));
+  return (correction * t_later - t_later).norm() <=
+             factor * bound_t + match.position_gate &&
+         angle <= factor * bound_r + match.angle_gate;
+}
+
+bool Backend::Impl::MergeDuplicate(int from, int into) {
+  const internal::ObjectState& duplicate = *map_.objects()[from];
+  if (duplicate.type != map_.objects()[into]->type) return false;
+  // Each of the duplicate's angles is the merged object's nearest one (or
+  // a new one), at the duplicate's rotation after the loop moved it.
+  std::vector<int> angles;
+  for (size_t a = 0; a < duplicate.thetas.size(); ++a) {
+    angles.push_back(
+        map_.MatchOrAddAngle(into, duplicate.Rotation(static_cast<int>(a))));
+  }
+  const std::vector<double> evidence = duplicate.angle_evidence;
+  std::vector<internal::ObjectObservation> observations =
+      map_.MergeInto(from, into);
+  for (size_t a = 0; a < angles.size(); ++a) {
+    map_.AddAngleEvidence(into, angles[a], evidence[a]);
+  }
+  for (internal::ObjectObservation& observation : observations) {
+    if (observation.angle >= 0) observation.angle = angles[observation.angle];
+    edges_.Add(into, std::move(observation));
+  }
+  return true;
+}
+
+bool Backend::Impl::DetectObjectLoop() {
+  if (!options_.detect_loops) return false;
+  bool closed = false;
+  if (map_.confirmations() != confirmations_checked_) {
+    confirmations_checked_ = map_.confirmations();
+    closed = CloseLoopFromObjects();
+  }
+  // After every solve: the window may have been pulled onto the earlier
+  // map since a duplicate was made (by objects associated again).
+  return MergeRevisitedDuplicates() > 0 || closed;
+}
+
+bool Backend::Impl::CloseLoopFromObjects() {
+  const auto start = std::chrono::steady_clock::now();
+  const LoopCandidates candidates = ObjectLoopCandidates();
+  const int min_objects = options_.loop_min_objects;
+  if (static_cast<int>(candidates.recent.size()) < min_objects ||
+      static_cast<int>(candidates.earlier.size()) < min_objects) {
+    return false;
+  }
+  ConstellationMatchOptions match_options;
+  match_options.min_support = min_objects;
+  for (const auto& [name, prior] : class_priors_) {
+    if (prior.symmetry == SymmetryType::kDiscrete && prior.order >= 2) {
+      match_options.symmetry_orders.emplace(name, prior.order);
+    }
+  }
+  const ConstellationMatchResult result =
+      MatchConstellation(candidates.recent, candidates.earlier, match_options);
+  if (!result.match) return false;
+  const ConstellationMatch& match = *result.match;
+
+  // The loop: the newest keyframe, where the match puts it, relative to the
+  // last keyframe that saw one of the recognised objects.
+  const internal::KeyframeList& keyframes = trajectory_.keyframes();
+  const int k = static_cast<int>(keyframes.size()) - 1;
+  int earlier = -1;
+  for (const ObjectCorrespondence& c : match.correspondences) {
+    earlier = std::max(earlier, map_.objects()[c.map]->last_keyframe);
+  }
+  if (!WithinPossibleDrift(earlier, k, match.T_map_local)) return false;
+  LoopClosureInput closure;
+  closure.keyframe = keyframes[earlier]->id;
+  closure.T = keyframes[earlier]->T_wc().Inverse() *
+              (match.T_map_local * keyframes[k]->T_wc());
+  closure.sigma_t = std::max(options_.loop_sigma_t, match.position_rmse);
+  closure.sigma_r = options_.loop_sigma_r;
+  const double close_seconds_before = statistics_.loop_closure_seconds;
+  CloseLoop(k, closure);
+  LoopClosureReport& report = loop_closures_.back();
+  report.from_objects = true;
+  ++statistics_.object_loop_closures;
+  // Without the moved past the duplicates stay where the drift put them.
+  const bool merge = report.message.empty();
+  for (const ObjectCorrespondence& c : match.correspondences) {
+    LoopObjectPair pair;
+    pair.map = c.map;
+    pair.duplicate = c.local;
+    pair.merged = merge && MergeDuplicate(static_cast<int>(c.local),
+                                          static_cast<int>(c.map));
+    report.objects.push_back(pair);
+  }
+  report.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
+  statistics_.loop_closure_seconds = close_seconds_before + report.seconds;
+  return true;
+}
+
+double Backend::Impl::PositionSigma(const internal::ObjectState& o) const {
+  // The detections' noise as the association gate takes it: the
+  // detection's own, or the class's estimate, or the default.
+  const internal::ObjectObservation& first = o.observations.front();
+  const double sigma_t =
+      first.claimed_t
+          ? first.sigma_t
+          : edges_.AppliedNoise(o.class_name).sigma_t.value_or(first.sigma_t);
+  return sigma_t / std::sqrt(std::max(1, o.keyframes_seen));
+}
+
+bool Backend::Impl::SameObject(const internal::ObjectState& a,
+                               const internal::ObjectState& b) const {
+  double gate = options_.gate_position;
+  if (options_.gate_sigmas > 0.0) {
+    gate = std::min(
+        gate,
+        options_.gate_sigmas * std::hypot(PositionSigma(a), PositionSigma(b)));
+  }
+  if (a.type != b.type || (a.position() - b.position()).norm() > gate) {
+    return false;
+  }
+  switch (a.type) {
+    case SymmetryType::kAsymmetric:
+      return a.Rotation(-1).angularDistance(b.Rotation(-1)) <=
+             options_.gate_rotation;
+    case SymmetryType::kContinuous:
+      return std::abs(a.axis_w().normalized().dot(b.axis_w().normalized())) >=
+             std::cos(options_.gate_axis);
+    case SymmetryType::kDiscrete:
+      // An angle of one within gate_angle of an angle of the other.
+      for (size_t i = 0; i < a.thetas.size(); ++i) {
+        for (size_t j = 0; j < b.thetas.size(); ++j) {
+          if (a.Rotation(static_cast<int>(i))
+                  .angularDistance(b.Rotation(static_cast<int>(j))) <=
+              options_.gate_angle) {
+            return true;
+          }
+        }
+      }
+      return false;
+  }
+  return false;
+}
+
+int Backend::Impl::MergeRevisitedDuplicates() {
+  const internal::ObjectList& objects = map_.objects();
+  const int n = static_cast<int>(trajectory_.keyframes().size());
+  const int recent_begin = std::max(0, n - options_.loop_recent_keyframes);
+  int merged = 0;
+  for (size_t r = 0; r < objects.size(); ++r) {
+    const internal::ObjectState& recent = *objects[r];
+    if (recent.status != internal::ObjectStatus::kConfirmed ||
+        recent.observations.empty() || recent.created_keyframe < recent_begin) {
+      continue;
+    }
+    // The one earlier object of its class it now is, as association
+    // would have found it: last detected before it was first detected.
+    int match = -1;
+    int matches = 0;
+    for (int e : map_.ObjectsOfClass(recent.class_name)) {
+      const internal::ObjectState& earlier = *objects[e];
+      if (e == static_cast<int>(r) ||
+          earlier.status != internal::ObjectStatus::kConfirmed ||
+          earlier.observations.empty() ||
+          earlier.last_keyframe >= recent.created_keyframe ||
+          !SameObject(recent, earlier)) {
+        continue;
+      }
+      match = e;
+      ++matches;
+    }
+    if (matches == 1 && MergeDuplicate(static_cast<int>(r), match)) ++merged;
+  }
+  return merged;
+}
+
+}  // namespace symba

@@ -1,12 +1,15 @@
 #!/usr/bin/env python3
-"""What the host's loop closures cost and give on the long simulated scene
+"""What loop closures cost and give on the long simulated scene
 (docs/loop-closure.md, "Measured"): `symba simulate --scene long`, replayed
-keyframe by keyframe with a window solve after each, once as it is and once
-with a host that recognises places perfectly: at keyframe k it closes a loop
-to the earliest (or, with --to latest, the latest) keyframe j < k - gap whose
-true camera position is within `radius` of k's, with the true relative pose (sigma 2 cm / 0.01 rad), at most
-one closure every `every` keyframes. Prints the keyframe position RMSE, the
-map objects, and the loop closures' times. Not a test.
+keyframe by keyframe with a window solve after each, three times: without
+loop closures (`detect_loops` off), with the loops symba finds from the
+objects (the default), and with a host that recognises places perfectly
+(objects' loops off): at keyframe k it closes a loop to the earliest (or,
+with --to latest, the latest) keyframe j < k - gap whose true camera
+position is within `radius` of k's, with the true relative pose (sigma 2 cm
+/ 0.01 rad), at most one closure every `every` keyframes. Prints the
+keyframe position RMSE, the map objects, and the loop closures' times. Not
+a test.
 
     PYTHONPATH=build/python python3 benchmarks/loop_closure_cost.py \
         [--build build] [--keyframes 3000] [--seed 7]
@@ -59,8 +62,9 @@ def host_closures(truth, gap, radius, every, latest):
     return closures
 
 
-def replay(symba, header, keyframes, truth, closures):
-    backend = symba.Backend(intrinsics=header.camera,
+def replay(symba, header, keyframes, truth, closures, detect_loops):
+    backend = symba.Backend(symba.BackendOptions(detect_loops=detect_loops),
+                            intrinsics=header.camera,
                             class_priors=header.classes)
     times = []
     for k, keyframe in enumerate(keyframes):
@@ -86,6 +90,8 @@ def main():
     parser.add_argument("--gap", type=int, default=300)
     parser.add_argument("--radius", type=float, default=0.5)
     parser.add_argument("--every", type=int, default=100)
+    parser.add_argument("--runs", default="none,objects,host",
+                        help="which of the three runs, comma-separated")
     parser.add_argument("--to", choices=["earliest", "latest"],
                         default="earliest",
                         help="close to the earliest or the latest earlier "
@@ -102,11 +108,18 @@ def main():
         truth = read_tum(out / "gt_trajectory.tum")
     closures = host_closures(truth, args.gap, args.radius, args.every,
                              args.to == "latest")
-    for name, given in [("as it is", {}), ("host loop closures", closures)]:
-        backend, rmse, times = replay(symba, header, keyframes, truth, given)
+    runs = {"none": ("no loop closures", {}, False),
+            "objects": ("loops from the objects", {}, True),
+            "host": ("host loop closures", closures, False)}
+    for run in args.runs.split(","):
+        name, given, detect = runs[run]
+        backend, rmse, times = replay(symba, header, keyframes, truth, given,
+                                      detect)
         reports = [r for r in backend.loop_closures() if not r.waiting]
         seconds = np.array([r.seconds for r in reports]) if reports else None
-        closing = set(given)
+        closing = set(given) | {
+            k for k, keyframe in enumerate(keyframes)
+            if any(r.keyframe == keyframe.id for r in reports)}
         ordinary = np.array([t for k, t in enumerate(times)
                              if k not in closing])
         line = (f"{name}: keyframe RMSE {rmse:.3f} m, "
@@ -114,7 +127,10 @@ def main():
                 f"ms per keyframe {1e3 * ordinary.mean():.2f} "
                 f"(last 1000 {1e3 * ordinary[-1000:].mean():.2f})")
         if seconds is not None:
-            line += (f", {len(reports)} loop closures: median "
+            merged = sum(p.merged for r in reports for p in r.objects)
+            line += (f", {len(reports)} loop closures "
+                     f"({sum(r.from_objects for r in reports)} from objects, "
+                     f"{merged} objects merged): median "
                      f"{np.median(seconds):.3f} s, max {seconds.max():.3f} s, "
                      f"keyframe moved median "
                      f"{np.median([r.correction_m for r in reports]):.3f} m")

@@ -15,16 +15,16 @@
 #include "backend/detection_noise.h"
 #include "backend/keyframe_validation.h"
 #include "symba/factors/relative_pose_factor.h"
+#include "symba/geometry/pi.h"
 
 namespace symba {
 namespace {
 
-constexpr double kRadToDeg = 57.29577951308232;
 constexpr double kMinLoopSigma = 1e-9;  // m or rad
 constexpr double kMaxLoopSigma = 1e9;
 
 double AngleDeg(const Eigen::Quaterniond& q) {
-  return kRadToDeg * 2.0 *
+  return kDegreesPerRadian * 2.0 *
          std::atan2(q.vec().norm(), std::abs(q.normalized().w()));
 }
 

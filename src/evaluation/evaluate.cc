@@ -17,6 +17,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 
+#include "evaluation/fixed.h"
 #include "io/json_writer.h"
 #include "io/text_file.h"
 #include "symba/geometry/angle.h"
@@ -30,6 +31,7 @@ namespace {
 
 using internal::Approx;
 using internal::At;
+using internal::Fixed;
 using internal::IsBlank;
 using internal::ParseDouble;
 using internal::ParseInteger;
@@ -41,7 +43,6 @@ using io_internal::JsonWriter;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-constexpr double kRadToDeg = 180.0 / kPi;
 std::string JoinPath(const std::string& dir, const char* name) {
   if (dir.empty() || dir.back() == '/') return dir + name;
   return dir + "/" + name;
@@ -166,13 +167,6 @@ Status ReadAssociations(const std::string& path,
 // ---------------------------------------------------------------------------
 // Formatting.
 
-std::string Fixed(double value, int decimals) {
-  if (!std::isfinite(value)) return "n/a";
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", decimals, value);
-  return buffer;
-}
-
 std::string Percent(int correct, int total) {
   if (total == 0) return "n/a";
   return Fixed(100.0 * correct / total, 1) + " % (" + std::to_string(correct) +
@@ -290,7 +284,8 @@ Status EvaluateReplay(const GroundTruth& gt,
   }
   e.keyframes = static_cast<int>(result.keyframes.size());
   e.position_rmse = std::sqrt(sum_position / e.keyframes);
-  e.rotation_rmse_deg = kRadToDeg * std::sqrt(sum_rotation / e.keyframes);
+  e.rotation_rmse_deg =
+      kDegreesPerRadian * std::sqrt(sum_rotation / e.keyframes);
 
   // Map objects by id.
   std::map<int, const MapObjectEstimate*> map_objects;
@@ -378,7 +373,7 @@ Status EvaluateReplay(const GroundTruth& gt,
           m.symmetry != SymmetryType::kAsymmetric
               ? m.axis_w
               : Eigen::Vector3d(m.poses[0].q * g.axis_o);
-      o.axis_error_deg = kRadToDeg * LineAngle(a_w, g.axis_w);
+      o.axis_error_deg = kDegreesPerRadian * LineAngle(a_w, g.axis_w);
     }
     if (g.symmetry == SymmetryType::kContinuous) {
       o.rotation_error_deg = o.axis_error_deg;
@@ -395,7 +390,7 @@ Status EvaluateReplay(const GroundTruth& gt,
           best = std::min(best, AngleBetween(q_k, T.q));
         }
       }
-      o.rotation_error_deg = kRadToDeg * best;
+      o.rotation_error_deg = kDegreesPerRadian * best;
     }
   }
   *evaluation = std::move(e);

@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include "evaluation/fixed.h"
 #include "io/json_tree_reader.h"
 #include "io/json_writer.h"
 #include "io/text_file.h"
@@ -15,9 +16,9 @@
 namespace symba {
 namespace {
 
+using internal::Fixed;
 using io_internal::JsonWriter;
 
-constexpr double kDegPerRad = 180.0 / kPi;
 constexpr double kUnitTolerance = 1e-3;  // as the TUM reader's
 const double kNan = std::numeric_limits<double>::quiet_NaN();
 
@@ -135,17 +136,10 @@ ObjectPositionError MatchObject(const GroundTruthObjectPose& gt,
   error.nearest_map_object = nearest->id;
   if (nearest->symmetry != SymmetryType::kContinuous) {
     error.rotation_error_deg =
-        kDegPerRad *
+        kDegreesPerRadian *
         LeastRotationError(*nearest, alignment.T_ref_est.q, gt.T_wo.q);
   }
   return error;
-}
-
-std::string Fixed(double value, int decimals) {
-  if (!std::isfinite(value)) return "n/a";
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", decimals, value);
-  return buffer;
 }
 
 void TrajectoryRow(const std::string& name,

@@ -43,8 +43,6 @@ Status CompareTrajectories(const std::vector<TrajectoryPose>& estimate,
 
 namespace {
 
-constexpr double kDegPerRad = 180.0 / kPi;
-
 // Estimated poses and the reference poses matched to them, both with the
 // estimate's timestamps (so CompareTrajectories pairs them one to one).
 struct MatchedPoses {
@@ -126,7 +124,8 @@ double RotationRmseDeg(const std::vector<TrajectoryPose>& estimate,
         reference[i].T_wc.q.angularDistance(estimate[i].T_wc.q);
     sum += angle * angle;
   }
-  return kDegPerRad * std::sqrt(sum / static_cast<double>(estimate.size()));
+  return kDegreesPerRadian *
+         std::sqrt(sum / static_cast<double>(estimate.size()));
 }
 
 void RelativePoseError(const std::vector<TrajectoryPose>& estimate,
@@ -151,7 +150,8 @@ void RelativePoseError(const std::vector<TrajectoryPose>& estimate,
     return;
   }
   e->rpe_translation_rmse = std::sqrt(sum_t / e->rpe_pairs);
-  e->rpe_rotation_rmse_deg = kDegPerRad * std::sqrt(sum_r / e->rpe_pairs);
+  e->rpe_rotation_rmse_deg =
+      kDegreesPerRadian * std::sqrt(sum_r / e->rpe_pairs);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "export/bop_units.h"
 #include "io/json_writer.h"
 #include "symba/export/bop_results_csv.h"
 #include "symba/geometry/angle.h"
@@ -22,9 +23,8 @@
 namespace symba {
 namespace {
 
+using internal::kMillimetresPerMetre;
 using io_internal::JsonWriter;
-
-constexpr double kMillimetresPerMetre = 1000.0;
 
 struct ExportInput {
   LogHeader header;

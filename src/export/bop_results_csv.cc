@@ -2,13 +2,14 @@
 
 #include <Eigen/Core>
 
+#include "export/bop_units.h"
 #include "symba/io/file_output.h"
 #include "symba/io/format_double.h"
 
 namespace symba {
 namespace {
 
-constexpr double kMillimetresPerMetre = 1000.0;
+using internal::kMillimetresPerMetre;
 
 // `count` numbers separated by single spaces.
 void AppendNumbers(const double* values, int count, std::string* out) {

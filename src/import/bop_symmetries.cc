@@ -13,11 +13,11 @@
 #include <Eigen/Geometry>
 
 #include "import/bop_files.h"
+#include "symba/geometry/pi.h"
 
 namespace symba::import_internal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 // Rotations closer than this to the identity are the identity; axes closer
 // than this are one axis; angles closer than this are one angle.

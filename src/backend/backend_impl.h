@@ -19,6 +19,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -174,6 +175,9 @@ class Backend::Impl {
   int solved_keyframes_ = 0;
   // ObjectMap::confirmations() when DetectObjectLoop last looked.
   int confirmations_checked_ = 0;
+  // Duplicates a loop from the objects recognised but could not merge
+  // (their type differs): never matched again.
+  std::set<int> unmerged_duplicates_;
   // One categorization per detection of the keyframe being added, reused
   // between keyframes.
   std::vector<CategorizedDetection> categorized_;

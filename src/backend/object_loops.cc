@@ -37,7 +37,8 @@ Backend::Impl::LoopCandidates Backend::Impl::ObjectLoopCandidates() const {
   for (const auto& object : objects) {
     if (object->status != internal::ObjectStatus::kConfirmed ||
         object->observations.empty() ||
-        object->created_keyframe < recent_begin) {
+        object->created_keyframe < recent_begin ||
+        unmerged_duplicates_.count(object->id) > 0) {
       continue;
     }
     candidates.recent.push_back(EstimateOf(*object));
@@ -162,22 +163,28 @@ bool Backend::Impl::CloseLoopFromObjects() {
   CloseLoop(k, closure);
   LoopClosureReport& report = loop_closures_.back();
   report.from_objects = true;
-  ++statistics_.object_loop_closures;
-  // Without the moved past the duplicates stay where the drift put them.
-  const bool merge = report.message.empty();
+  // Without the moved past (the graph's solve failed; the closure was left
+  // out) the duplicates stay where the drift put them.
+  const bool closed = report.message.empty();
+  if (closed) ++statistics_.object_loop_closures;
   for (const ObjectCorrespondence& c : match.correspondences) {
     LoopObjectPair pair;
     pair.map = c.map;
     pair.duplicate = c.local;
-    pair.merged = merge && MergeDuplicate(static_cast<int>(c.local),
-                                          static_cast<int>(c.map));
+    pair.merged = closed && MergeDuplicate(static_cast<int>(c.local),
+                                           static_cast<int>(c.map));
+    // A recognised duplicate that stays (its type differs) must not make
+    // the same loop again at the next confirmation.
+    if (closed && !pair.merged) {
+      unmerged_duplicates_.insert(static_cast<int>(c.local));
+    }
     report.objects.push_back(pair);
   }
   report.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
   statistics_.loop_closure_seconds = close_seconds_before + report.seconds;
-  return true;
+  return closed;
 }
 
 double Backend::Impl::PositionSigma(const internal::ObjectState& o) const {

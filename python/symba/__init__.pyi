@@ -83,6 +83,7 @@ class BackendOptions:
     noise_update_ratio: float
     uncalibrated_sigma_t: float
     uncalibrated_sigma_r: float
+    scatter_min_hypotheses: int
     min_support: float
     min_support_views: int
     upgrade_evidence: int

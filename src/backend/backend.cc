@@ -51,13 +51,21 @@ std::vector<ClassNoiseEstimate> Backend::Impl::Noise() const {
     c.sigma_r = estimate.sigma_r;
     // As BuildObjectEdge weighs a detection without a sigma: the applied
     // estimate against the floor.
+    // (Without estimate_noise: the default, SetObservationNoise.)
     const internal::ClassNoise used = edges_.AppliedNoise(name);
-    c.weight_sigma_t = internal::EffectiveSigma(
-        options_.uncalibrated_sigma_t, false, used.sigma_t);
-    c.weight_sigma_r = internal::EffectiveSigma(
-        options_.uncalibrated_sigma_r, false, used.sigma_r);
+    c.weight_sigma_t =
+        options_.estimate_noise
+            ? internal::EffectiveSigma(
+                  options_.uncalibrated_sigma_t, false, used.sigma_t)
+            : options_.hypothesis_sigma_t;
+    c.weight_sigma_r =
+        options_.estimate_noise
+            ? internal::EffectiveSigma(
+                  options_.uncalibrated_sigma_r, false, used.sigma_r)
+            : options_.hypothesis_sigma_r;
     c.translation = noise.TranslationReport(name);
     c.rotation = noise.RotationReport(name);
+    c.scatter = noise.ScatterReport(name);
     classes.push_back(std::move(c));
   }
   return classes;
@@ -101,6 +109,7 @@ Status Backend::Impl::AddKeyframe(
     AddDetection(k,
                  input.detections[d],
                  options_.method == Method::kSymba ? &categorized_[d] : nullptr,
+                 scatters_[d],
                  DetectionId(input, d));
   }
   map_.UpdateTentative(k);

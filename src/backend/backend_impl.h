@@ -31,6 +31,7 @@
 #include "backend/object_map.h"
 #include "backend/trajectory.h"
 #include "symba/backend/backend.h"
+#include "symba/categorization/hypothesis_scatter.h"
 
 namespace symba {
 
@@ -76,14 +77,24 @@ class Backend::Impl {
   void AddDetection(int k,
                     const DetectionInput& detection,
                     const CategorizedDetection* categorized,
+                    const std::optional<HypothesisScatter>& scatter,
                     const std::string& detection_id);
-  int AddSingleOrMultiHypothesis(int k,
-                                 const DetectionInput& detection,
-                                 const Matrix6d& sqrt_info);
+  int AddSingleOrMultiHypothesis(
+      int k,
+      const DetectionInput& detection,
+      const std::optional<HypothesisScatter>& scatter,
+      const Matrix6d& sqrt_info);
   int AddSymba(int k,
                const DetectionInput& detection,
                const CategorizedDetection& cat,
+               const std::optional<HypothesisScatter>& scatter,
                const Matrix6d& sqrt_info);
+  // The position noise the association gate takes for a detection of
+  // `class_name` without sigmas: its scatter held to the class's white
+  // part, or the class's estimate (nullopt: gate_position alone).
+  std::optional<double> GateSigmaT(
+      const std::string& class_name,
+      const std::optional<HypothesisScatter>& scatter) const;
   // Each class's noise after a keyframe; rebuilds the edges of a class whose
   // noise moved by more than noise_update_ratio.
   void UpdateDetectionNoise(const KeyframeInput& input);
@@ -181,6 +192,9 @@ class Backend::Impl {
   // One categorization per detection of the keyframe being added, reused
   // between keyframes.
   std::vector<CategorizedDetection> categorized_;
+  // The hypotheses' scatter of each detection of the keyframe being added
+  // that is weighed by it (internal::UsableScatter).
+  std::vector<std::optional<HypothesisScatter>> scatters_;
 };
 
 }  // namespace symba

@@ -238,6 +238,11 @@ void AppendRealDetectorOptions(OptionTable<BackendOptions>* table) {
                           Positive(),
                           "with estimate_noise: least rotation noise of a "
                           "detection without sigmas"),
+          IntOption<O>("scatter_min_hypotheses",
+                       &O::scatter_min_hypotheses,
+                       AtLeast(0),
+                       "weigh a detection without sigmas by its hypotheses' "
+                       "spread when it has this many; 0: never"),
           DoubleOption<O>("min_support",
                           &O::min_support,
                           "",

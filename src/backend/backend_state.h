@@ -67,12 +67,16 @@ struct KeyframeState {
 // rebuilt when its object changes type or is re-anchored.
 struct ObjectObservation {
   int keyframe = -1;  // keyframe index
-  // The detection's noise as given (claimed = true) or the options' default;
+  // The detection's noise as given (claimed = true), its hypotheses'
+  // scatter (from_scatter) or the options' default;
   // the edge is built with the effective noise (detection_noise.h).
   double sigma_t = 0.0;  // m
   double sigma_r = 0.0;  // rad
   bool claimed_t = false;
   bool claimed_r = false;
+  // sigma_t, sigma_r are the detection's hypotheses' scatter
+  // (BackendOptions::scatter_min_hypotheses).
+  bool from_scatter = false;
   // This edge's hypotheses (freed when its keyframe leaves the window,
   // unless BackendOptions::keep_history).
   std::vector<PoseComponent> components;

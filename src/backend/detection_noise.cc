@@ -14,17 +14,12 @@ void RobustScale::Add(double value) {
   next_ = (next_ + 1) % values_.size();
 }
 
-double RobustScale::Sigma() const {
+double RobustScale::Median() const {
   scratch_ = values_;
-  const size_t middle = scratch_.size() / 2;
-  std::nth_element(scratch_.begin(), scratch_.begin() + middle, scratch_.end());
-  double median = scratch_[middle];
-  if (scratch_.size() % 2 == 0) {
-    median = 0.5 * (median + *std::max_element(scratch_.begin(),
-                                               scratch_.begin() + middle));
-  }
-  return median / kChi3Median;
+  return MedianInPlace(&scratch_);
 }
+
+double RobustScale::Sigma() const { return Median() / kChi3Median; }
 
 double IncrementCorrelation(double sigma_level, double sigma_increment) {
   if (!(sigma_level > 0.0)) return 0.0;
@@ -65,6 +60,17 @@ std::optional<double> DetectionNoiseEstimator::Sigma(
   return CorrelatedSigma(level, it->second.increment.Sigma() / std::sqrt(2.0));
 }
 
+std::optional<double> DetectionNoiseEstimator::IncrementSigma(
+    const std::map<std::string, Scales>& scales,
+    const std::string& class_name) const {
+  const auto it = scales.find(class_name);
+  if (it == scales.end() || it->second.increment.size() < min_samples_) {
+    return std::nullopt;
+  }
+  // Increments are differences of two errors: sqrt(2) sigma each.
+  return it->second.increment.Sigma() / std::sqrt(2.0);
+}
+
 NoiseSamplesReport DetectionNoiseEstimator::Report(
     const std::map<std::string, Scales>& scales,
     const std::string& class_name) const {
@@ -99,13 +105,34 @@ NoiseSamplesReport DetectionNoiseEstimator::RotationReport(
   return Report(rotation_, class_name);
 }
 
+void DetectionNoiseEstimator::AddScatter(const std::string& class_name,
+                                         double sigma_t,
+                                         double sigma_r) {
+  ScatterScales& scales =
+      scatter_.try_emplace(class_name, window_).first->second;
+  ++scales.detections;
+  scales.sigma_t.Add(sigma_t);
+  scales.sigma_r.Add(sigma_r);
+}
+
+ClassNoiseEstimate::Scatter DetectionNoiseEstimator::ScatterReport(
+    const std::string& class_name) const {
+  ClassNoiseEstimate::Scatter report;
+  const auto it = scatter_.find(class_name);
+  if (it == scatter_.end()) return report;
+  report.detections = it->second.detections;
+  report.sigma_t = it->second.sigma_t.Median();
+  report.sigma_r = it->second.sigma_r.Median();
+  return report;
+}
+
 std::vector<std::string> DetectionNoiseEstimator::Classes() const {
   std::vector<std::string> names;
   for (const auto& [name, scales] : translation_) names.push_back(name);
-  for (const auto& [name, scales] : rotation_) {
-    if (translation_.count(name) == 0) names.push_back(name);
-  }
+  for (const auto& [name, scales] : rotation_) names.push_back(name);
+  for (const auto& [name, scales] : scatter_) names.push_back(name);
   std::sort(names.begin(), names.end());
+  names.erase(std::unique(names.begin(), names.end()), names.end());
   return names;
 }
 
@@ -117,6 +144,15 @@ ClassNoise DetectionNoiseEstimator::Estimate(
   }
   if (auto r = Sigma(rotation_, class_name)) {
     noise.sigma_r = std::max(kMinSigmaR, *r);
+  }
+  // The white part holds the detections weighed by their scatter: a
+  // class without any has none.
+  if (scatter_.count(class_name) == 0) return noise;
+  if (auto t = IncrementSigma(translation_, class_name)) {
+    noise.white_sigma_t = std::max(kMinSigmaT, *t);
+  }
+  if (auto r = IncrementSigma(rotation_, class_name)) {
+    noise.white_sigma_r = std::max(kMinSigmaR, *r);
   }
   return noise;
 }

@@ -36,12 +36,11 @@
 #include <string>
 #include <vector>
 
+#include "common/median.h"
 #include "symba/backend/estimates.h"
 
 namespace symba::internal {
 
-// The median of a chi distribution with 3 degrees of freedom.
-inline constexpr double kChi3Median = 1.5381722;
 // Estimates never go below these (a detector that agrees with the map to
 // the last bit must not make an infinite weight).
 inline constexpr double kMinSigmaT = 1e-3;  // m
@@ -56,7 +55,8 @@ class RobustScale {
   void Add(double value);
   int size() const { return static_cast<int>(values_.size()); }
   // The values must not be empty.
-  double Sigma() const;
+  double Median() const;
+  double Sigma() const;  // Median() / kChi3Median
 
  private:
   int window_;
@@ -75,6 +75,11 @@ double CorrelatedSigma(double sigma_level, double sigma_increment);
 struct ClassNoise {
   std::optional<double> sigma_t;  // m
   std::optional<double> sigma_r;  // rad
+  // The frame-to-frame part sigma_I alone, once there are min_samples
+  // increments and the class has detections weighed by their hypotheses'
+  // scatter (what those are held to).
+  std::optional<double> white_sigma_t;  // m
+  std::optional<double> white_sigma_r;  // rad
 };
 
 // What one kind of sample (translation or rotation) of a class says: the
@@ -96,6 +101,13 @@ class DetectionNoiseEstimator {
   // The samples behind Estimate, for the report.
   NoiseSamplesReport TranslationReport(const std::string& class_name) const;
   NoiseSamplesReport RotationReport(const std::string& class_name) const;
+  // A detection of the class weighed by its hypotheses' scatter, for the
+  // report (it changes no estimate).
+  void AddScatter(const std::string& class_name,
+                  double sigma_t,
+                  double sigma_r);
+  ClassNoiseEstimate::Scatter ScatterReport(
+      const std::string& class_name) const;
   // The classes with samples, sorted.
   std::vector<std::string> Classes() const;
 
@@ -107,18 +119,30 @@ class DetectionNoiseEstimator {
   };
   std::optional<double> Sigma(const std::map<std::string, Scales>& scales,
                               const std::string& class_name) const;
+  std::optional<double> IncrementSigma(
+      const std::map<std::string, Scales>& scales,
+      const std::string& class_name) const;
   NoiseSamplesReport Report(const std::map<std::string, Scales>& scales,
                             const std::string& class_name) const;
+
+  struct ScatterScales {
+    explicit ScatterScales(int window) : sigma_t(window), sigma_r(window) {}
+    int detections = 0;
+    RobustScale sigma_t;
+    RobustScale sigma_r;
+  };
 
   int window_;
   int min_samples_;
   std::map<std::string, Scales> translation_;
   std::map<std::string, Scales> rotation_;
+  std::map<std::string, ScatterScales> scatter_;
 };
 
 // The noise an edge is built with: a detection's own sigma (the detector's
 // word) where it gives one; otherwise the larger of `given` (the options'
-// floor for uncalibrated detectors) and the estimate, where there is one.
+// floor for uncalibrated detectors, or the hypotheses' scatter) and the
+// estimate (for a scatter, the class's white part), where there is one.
 inline double EffectiveSigma(double given,
                              bool claimed,
                              const std::optional<double>& estimate) {

@@ -1,6 +1,9 @@
 #include "backend/detection_observations.h"
 
+#include <cmath>
 #include <utility>
+
+#include "backend/detection_noise.h"
 
 namespace symba::internal {
 namespace {
@@ -55,9 +58,51 @@ std::string DetectionId(const KeyframeInput& input, size_t d) {
                         : det.id;
 }
 
+bool WantsScatter(const DetectionInput& detection,
+                  const BackendOptions& options) {
+  return !detection.sigma_t && !detection.sigma_r &&
+         options.scatter_min_hypotheses > 0 &&
+         static_cast<int>(detection.hypotheses.size()) >=
+             options.scatter_min_hypotheses;
+}
+
+std::optional<HypothesisScatter> UsableScatter(
+    const DetectionInput& detection,
+    const std::vector<PoseHypothesis>& hypotheses,
+    const CategorizedDetection& categorized,
+    const BackendOptions& options) {
+  if (!WantsScatter(detection, options)) return std::nullopt;
+  const HypothesisScatter scatter =
+      MeasureHypothesisScatter(hypotheses, categorized);
+  // Copies of one pose say nothing of the noise.
+  if (scatter.count < options.scatter_min_hypotheses ||
+      !(scatter.sigma_t >= kMinSigmaT) || !(scatter.sigma_r >= kMinSigmaR) ||
+      !std::isfinite(scatter.sigma_t) || !std::isfinite(scatter.sigma_r)) {
+    return std::nullopt;
+  }
+  return scatter;
+}
+
+Matrix6d InitialSqrtInfo(const DetectionInput& detection,
+                         const std::optional<HypothesisScatter>& scatter,
+                         const BackendOptions& options) {
+  if (scatter) return IsotropicPoseSqrtInfo(scatter->sigma_t, scatter->sigma_r);
+  return IsotropicPoseSqrtInfo(
+      detection.sigma_t.value_or(options.hypothesis_sigma_t),
+      detection.sigma_r.value_or(options.hypothesis_sigma_r));
+}
+
 void SetObservationNoise(const DetectionInput& detection,
+                         const std::optional<HypothesisScatter>& scatter,
                          const BackendOptions& options,
                          ObjectObservation* observation) {
+  if (scatter) {
+    observation->sigma_t = scatter->sigma_t;
+    observation->sigma_r = scatter->sigma_r;
+    observation->claimed_t = observation->claimed_r = false;
+    observation->from_scatter = true;
+    return;
+  }
   const bool calibrated = detection.sigma_t || detection.sigma_r;
   const bool uncalibrated_floor = !calibrated && options.estimate_noise;
   observation->sigma_t = detection.sigma_t.value_or(

@@ -6,6 +6,7 @@
 #ifndef SYMBA_SRC_BACKEND_DETECTION_OBSERVATIONS_H_
 #define SYMBA_SRC_BACKEND_DETECTION_OBSERVATIONS_H_
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "symba/backend/backend_options.h"
 #include "symba/backend/keyframe_input.h"
 #include "symba/categorization/categorize.h"
+#include "symba/categorization/hypothesis_scatter.h"
 
 namespace symba::internal {
 
@@ -20,11 +22,32 @@ namespace symba::internal {
 // format's default).
 std::string DetectionId(const KeyframeInput& input, size_t d);
 
+// True if `detection` gives no sigma and has enough hypotheses for its
+// scatter to weigh it (BackendOptions::scatter_min_hypotheses).
+bool WantsScatter(const DetectionInput& detection,
+                  const BackendOptions& options);
+// The scatter of a detection that WantsScatter, if its categorisation kept
+// scatter_min_hypotheses inliers and they are spread at all (sigmas at
+// least kMinSigmaT/R); nullopt otherwise.
+std::optional<HypothesisScatter> UsableScatter(
+    const DetectionInput& detection,
+    const std::vector<PoseHypothesis>& hypotheses,
+    const CategorizedDetection& categorized,
+    const BackendOptions& options);
+
+// The noise a detection's components start with: its own sigmas (the
+// options' default filling in a missing one), or its scatter.
+Matrix6d InitialSqrtInfo(const DetectionInput& detection,
+                         const std::optional<HypothesisScatter>& scatter,
+                         const BackendOptions& options);
+
 // The detection's noise on `observation`: a detection that gives a sigma
 // is calibrated (claimed): what it gives is taken as it is, the options'
-// default fills in the other. Without either: the default, or under
+// default fills in the other. Without either: its hypotheses' scatter
+// where there is one (from_scatter), else the default, or under
 // estimate_noise the floor for an uncalibrated detector.
 void SetObservationNoise(const DetectionInput& detection,
+                         const std::optional<HypothesisScatter>& scatter,
                          const BackendOptions& options,
                          ObjectObservation* observation);
 

@@ -18,12 +18,18 @@ using internal::Normalized;
 using internal::ObjectObservation;
 
 Status Backend::Impl::CategorizeDetections(const KeyframeInput& input) {
-  if (options_.method != Method::kSymba) return Status::Ok();
   if (categorized_.size() < input.detections.size()) {
     categorized_.resize(input.detections.size());
   }
+  scatters_.assign(input.detections.size(), std::nullopt);
   for (size_t d = 0; d < input.detections.size(); ++d) {
     const DetectionInput& det = input.detections[d];
+    // The baselines categorise only to measure a scatter: every method
+    // weighs a detection alike.
+    if (options_.method != Method::kSymba &&
+        !internal::WantsScatter(det, options_)) {
+      continue;
+    }
     // Create validated the options and the priors.
     Status status =
         categorization::CategorizeWithValidOptions(det.hypotheses,
@@ -35,20 +41,34 @@ Status Backend::Impl::CategorizeDetections(const KeyframeInput& input) {
                            ": detection " + DetectionId(input, d) + ": " +
                            status.message());
     }
+    scatters_[d] =
+        internal::UsableScatter(det, det.hypotheses, categorized_[d], options_);
   }
   return Status::Ok();
 }
 
-void Backend::Impl::AddDetection(int k,
-                                 const DetectionInput& detection,
-                                 const CategorizedDetection* categorized,
-                                 const std::string& detection_id) {
-  const Matrix6d sqrt_info = IsotropicPoseSqrtInfo(
-      detection.sigma_t.value_or(options_.hypothesis_sigma_t),
-      detection.sigma_r.value_or(options_.hypothesis_sigma_r));
-  const int object = categorized != nullptr
-                         ? AddSymba(k, detection, *categorized, sqrt_info)
-                         : AddSingleOrMultiHypothesis(k, detection, sqrt_info);
+std::optional<double> Backend::Impl::GateSigmaT(
+    const std::string& class_name,
+    const std::optional<HypothesisScatter>& scatter) const {
+  const internal::ClassNoise applied = edges_.AppliedNoise(class_name);
+  if (!scatter) return applied.sigma_t;
+  return internal::EffectiveSigma(
+      scatter->sigma_t, false, applied.white_sigma_t);
+}
+
+void Backend::Impl::AddDetection(
+    int k,
+    const DetectionInput& detection,
+    const CategorizedDetection* categorized,
+    const std::optional<HypothesisScatter>& scatter,
+    const std::string& detection_id) {
+  const Matrix6d sqrt_info =
+      internal::InitialSqrtInfo(detection, scatter, options_);
+  const int object =
+      categorized != nullptr
+          ? AddSymba(k, detection, *categorized, scatter, sqrt_info)
+          : AddSingleOrMultiHypothesis(k, detection, scatter, sqrt_info);
+  if (scatter) map_.NoteScatter(detection.class_name, *scatter);
   const SymmetryType type =
       categorized != nullptr ? categorized->type : SymmetryType::kAsymmetric;
   ++statistics_.detections;
@@ -64,9 +84,11 @@ void Backend::Impl::AddDetection(int k,
                          : detection.hypotheses.front().T_co.t);
 }
 
-int Backend::Impl::AddSingleOrMultiHypothesis(int k,
-                                              const DetectionInput& detection,
-                                              const Matrix6d& sqrt_info) {
+int Backend::Impl::AddSingleOrMultiHypothesis(
+    int k,
+    const DetectionInput& detection,
+    const std::optional<HypothesisScatter>& scatter,
+    const Matrix6d& sqrt_info) {
   const std::vector<PoseHypothesis>& hyps = detection.hypotheses;
   internal::SixDofObservation six_dof =
       internal::MakeSixDofObservation(hyps, options_.method, sqrt_info);
@@ -77,12 +99,12 @@ int Backend::Impl::AddSingleOrMultiHypothesis(int k,
     T_wo_candidates.push_back(T_wc * Normalized(hyps[j].T_co));
   }
   // The map first, then the tentative objects.
-  internal::AssociationScope scope = internal::DetectionScope(
-      detection,
-      kf,
-      six_dof.observation.T_co_best.t,
-      edges_.AppliedNoise(detection.class_name).sigma_t,
-      options_);
+  internal::AssociationScope scope =
+      internal::DetectionScope(detection,
+                               kf,
+                               six_dof.observation.T_co_best.t,
+                               GateSigmaT(detection.class_name, scatter),
+                               options_);
   int o = internal::FindSixDofMatch(
       map_.objects(), detection.class_name, T_wo_candidates, scope, options_);
   if (o < 0) {
@@ -97,7 +119,8 @@ int Backend::Impl::AddSingleOrMultiHypothesis(int k,
                     k);
   }
   six_dof.observation.keyframe = k;
-  internal::SetObservationNoise(detection, options_, &six_dof.observation);
+  internal::SetObservationNoise(
+      detection, scatter, options_, &six_dof.observation);
   if (options_.estimate_noise) {
     map_.SampleNoise(o,
                      k,
@@ -112,16 +135,17 @@ int Backend::Impl::AddSingleOrMultiHypothesis(int k,
 int Backend::Impl::AddSymba(int k,
                             const DetectionInput& detection,
                             const CategorizedDetection& cat,
+                            const std::optional<HypothesisScatter>& scatter,
                             const Matrix6d& sqrt_info) {
   const KeyframeState& kf = *trajectory_.keyframes()[k];
   const Rigid3d T_wc = kf.T_wc();
   // The map first, then the tentative objects.
-  internal::AssociationScope scope = internal::DetectionScope(
-      detection,
-      kf,
-      cat.t_co,
-      edges_.AppliedNoise(detection.class_name).sigma_t,
-      options_);
+  internal::AssociationScope scope =
+      internal::DetectionScope(detection,
+                               kf,
+                               cat.t_co,
+                               GateSigmaT(detection.class_name, scatter),
+                               options_);
   auto find = [&]() {
     return internal::FindSymbaMatch(map_.objects(),
                                     T_wc,
@@ -181,7 +205,7 @@ int Backend::Impl::AddSymba(int k,
   for (size_t i = 0; i < observations.size(); ++i) {
     ObjectObservation& observation = observations[i];
     observation.keyframe = k;
-    internal::SetObservationNoise(detection, options_, &observation);
+    internal::SetObservationNoise(detection, scatter, options_, &observation);
     if (per_angle) {
       observation.angle = map_.MatchOrAddAngle(o, T_wc, one_mode, &observation);
       map_.AddAngleEvidence(o, observation.angle, shares[i]);

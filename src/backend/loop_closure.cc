@@ -203,11 +203,10 @@ std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
     }
     // The noise its edges are weighed with (its first detection's).
     const internal::ObjectObservation& first = object.observations.front();
-    const internal::ClassNoise noise = edges_.AppliedNoise(object.class_name);
-    g.sigma_t =
-        internal::EffectiveSigma(first.sigma_t, first.claimed_t, noise.sigma_t);
-    g.sigma_r =
-        internal::EffectiveSigma(first.sigma_r, first.claimed_r, noise.sigma_r);
+    const internal::EdgeSigmas sigmas =
+        internal::EffectiveNoise(first, edges_.AppliedNoise(object.class_name));
+    g.sigma_t = sigmas.t;
+    g.sigma_r = sigmas.r;
   }
   return out;
 }

@@ -36,6 +36,19 @@ bool Moved(const std::optional<double>& now,
   return change > ratio || change < 1.0 / ratio;
 }
 
+// Takes (t, r) into (kept_t, kept_r) if either moved beyond `ratio`; a
+// sigma the estimate does not have (yet) stays as it was. True if so.
+bool ApplyPair(const std::optional<double>& t,
+               const std::optional<double>& r,
+               double ratio,
+               std::optional<double>* kept_t,
+               std::optional<double>* kept_r) {
+  if (!Moved(t, *kept_t, ratio) && !Moved(r, *kept_r, ratio)) return false;
+  if (t) *kept_t = t;
+  if (r) *kept_r = r;
+  return true;
+}
+
 }  // namespace
 
 ObjectEdges::ObjectEdges(const BackendOptions& options,
@@ -111,14 +124,30 @@ bool ObjectEdges::ApplyNoise(const std::string& class_name,
   // edges are built with the effective noise (BuildEdge).
   ClassNoise& applied = applied_noise_[class_name];
   const double ratio = options_.noise_update_ratio;
-  if (!Moved(estimate.sigma_t, applied.sigma_t, ratio) &&
-      !Moved(estimate.sigma_r, applied.sigma_r, ratio)) {
-    return false;
+  // The estimate and the white part each move on their own.
+  const bool estimate_moved = ApplyPair(estimate.sigma_t,
+                                        estimate.sigma_r,
+                                        ratio,
+                                        &applied.sigma_t,
+                                        &applied.sigma_r);
+  const bool white_moved = ApplyPair(estimate.white_sigma_t,
+                                     estimate.white_sigma_r,
+                                     ratio,
+                                     &applied.white_sigma_t,
+                                     &applied.white_sigma_r);
+  return estimate_moved || white_moved;
+}
+
+EdgeSigmas EffectiveNoise(const ObjectObservation& observation,
+                          const ClassNoise& applied) {
+  if (observation.from_scatter) {
+    return {EffectiveSigma(observation.sigma_t, false, applied.white_sigma_t),
+            EffectiveSigma(observation.sigma_r, false, applied.white_sigma_r)};
   }
-  // A sigma the estimate does not have (yet) stays as it was applied.
-  if (estimate.sigma_t) applied.sigma_t = estimate.sigma_t;
-  if (estimate.sigma_r) applied.sigma_r = estimate.sigma_r;
-  return true;
+  return {EffectiveSigma(
+              observation.sigma_t, observation.claimed_t, applied.sigma_t),
+          EffectiveSigma(
+              observation.sigma_r, observation.claimed_r, applied.sigma_r)};
 }
 
 ClassNoise ObjectEdges::AppliedNoise(const std::string& class_name) const {
@@ -140,11 +169,8 @@ std::unique_ptr<ceres::CostFunction> ObjectEdges::BuildEdge(
   std::vector<PoseComponent> components = observation.components;
   const auto noise = applied_noise_.find(object->class_name);
   if (noise != applied_noise_.end()) {
-    const Matrix6d sqrt_info = IsotropicPoseSqrtInfo(
-        EffectiveSigma(
-            observation.sigma_t, observation.claimed_t, noise->second.sigma_t),
-        EffectiveSigma(
-            observation.sigma_r, observation.claimed_r, noise->second.sigma_r));
+    const EdgeSigmas sigmas = EffectiveNoise(observation, noise->second);
+    const Matrix6d sqrt_info = IsotropicPoseSqrtInfo(sigmas.t, sigmas.r);
     for (PoseComponent& c : components) c.sqrt_info = sqrt_info;
   }
   if (object->type == SymmetryType::kAsymmetric) {

@@ -22,6 +22,18 @@
 
 namespace symba::internal {
 
+struct EdgeSigmas {
+  double t = 0.0;  // m
+  double r = 0.0;  // rad
+};
+
+// The sigmas an observation's edge is weighed with once its class has an
+// applied noise (EffectiveSigma): its detection's claim as given; its
+// hypotheses' scatter held to the class's frame-to-frame noise; otherwise
+// the larger of the floor and the class's estimate.
+EdgeSigmas EffectiveNoise(const ObjectObservation& observation,
+                          const ClassNoise& applied);
+
 class ObjectEdges {
  public:
   // The containers and the graph are the backend's and must outlive this.

@@ -189,12 +189,14 @@ bool Backend::Impl::CloseLoopFromObjects() {
 
 double Backend::Impl::PositionSigma(const internal::ObjectState& o) const {
   // The detections' noise as the association gate takes it: the
-  // detection's own, or the class's estimate, or the default.
+  // detection's own, or its scatter held to the class's white part, or the
+  // class's estimate, or the default.
   const internal::ObjectObservation& first = o.observations.front();
-  const double sigma_t =
-      first.claimed_t
-          ? first.sigma_t
-          : edges_.AppliedNoise(o.class_name).sigma_t.value_or(first.sigma_t);
+  const internal::ClassNoise applied = edges_.AppliedNoise(o.class_name);
+  const double sigma_t = first.claimed_t ? first.sigma_t
+                         : first.from_scatter
+                             ? internal::EffectiveNoise(first, applied).t
+                             : applied.sigma_t.value_or(first.sigma_t);
   return sigma_t / std::sqrt(std::max(1, o.keyframes_seen));
 }
 

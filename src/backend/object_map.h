@@ -20,6 +20,7 @@
 #include "backend/detection_noise.h"
 #include "backend/factor_graph.h"
 #include "symba/backend/backend.h"
+#include "symba/categorization/hypothesis_scatter.h"
 #include "symba/manifolds/axis_manifold.h"
 
 namespace symba::internal {
@@ -99,6 +100,13 @@ class ObjectMap {
                    const Rigid3d& T_wc_chain,
                    const Eigen::Vector3d& t_co,
                    const std::optional<Eigen::Quaterniond>& R_co);
+
+  // A detection of `class_name` weighed by its hypotheses' scatter, for
+  // the noise report.
+  void NoteScatter(const std::string& class_name,
+                   const HypothesisScatter& scatter) {
+    noise_.AddScatter(class_name, scatter.sigma_t, scatter.sigma_r);
+  }
 
   // Loops found from the objects (docs/loop-closure.md): duplicate object
   // `from` (confirmed, first detected after `into` was last) is merged into

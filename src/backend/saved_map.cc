@@ -144,7 +144,11 @@ Status Backend::Impl::LoadMap(const SavedMap& map) {
   });
   for (const MapObjectEstimate* o : by_id) map_.Load(*o);
   for (const SavedClassNoise& n : map.noise) {
-    edges_.ApplyNoise(n.class_name, internal::ClassNoise{n.sigma_t, n.sigma_r});
+    // The white parts are learned again (the map format has none).
+    internal::ClassNoise noise;
+    noise.sigma_t = n.sigma_t;
+    noise.sigma_r = n.sigma_r;
+    edges_.ApplyNoise(n.class_name, noise);
   }
   map_loaded_ = true;
   return Status::Ok();

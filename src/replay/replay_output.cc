@@ -64,7 +64,12 @@ void WriteNoise(const std::vector<ClassNoiseEstimate>& noise,
         .Member("weight_sigma_r", c.weight_sigma_r);
     WriteSamples("translation", c.translation, json);
     WriteSamples("rotation", c.rotation, json);
-    json->EndObject();
+    json->Key("hypothesis_scatter")
+        .BeginObject()
+        .Member("detections", c.scatter.detections);
+    OptionalMember("sigma_t", c.scatter.sigma_t, json);
+    OptionalMember("sigma_r", c.scatter.sigma_r, json);
+    json->EndObject().EndObject();
   }
   json->EndArray();
 }

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <ceres/manifold.h>
@@ -16,6 +17,16 @@
 
 namespace symba::internal {
 namespace {
+
+ClassNoise Noise(std::optional<double> sigma_t,
+                 std::optional<double> sigma_r,
+                 std::optional<double> white_sigma_t = std::nullopt) {
+  ClassNoise noise;
+  noise.sigma_t = sigma_t;
+  noise.sigma_r = sigma_r;
+  noise.white_sigma_t = white_sigma_t;
+  return noise;
+}
 
 class ObjectEdgesTest : public ::testing::Test {
  protected:
@@ -132,15 +143,42 @@ TEST_F(ObjectEdgesTest, RebuildReplacesEveryLiveEdge) {
 // does not, one beyond it does.
 TEST_F(ObjectEdgesTest, NoiseAppliesOnlyWhenItMovesBeyondTheRatio) {
   EXPECT_FALSE(edges_.AppliedNoise("box").sigma_t.has_value());
-  EXPECT_TRUE(edges_.ApplyNoise("box", ClassNoise{0.2, std::nullopt}));
+  EXPECT_TRUE(edges_.ApplyNoise("box", Noise(0.2, std::nullopt)));
   EXPECT_EQ(edges_.AppliedNoise("box").sigma_t, 0.2);
-  EXPECT_FALSE(edges_.ApplyNoise("box", ClassNoise{0.24, std::nullopt}));
+  EXPECT_FALSE(edges_.ApplyNoise("box", Noise(0.24, std::nullopt)));
   EXPECT_EQ(edges_.AppliedNoise("box").sigma_t, 0.2);
-  EXPECT_TRUE(edges_.ApplyNoise("box", ClassNoise{0.26, 0.3}));
+  EXPECT_TRUE(edges_.ApplyNoise("box", Noise(0.26, 0.3)));
   EXPECT_EQ(edges_.AppliedNoise("box").sigma_t, 0.26);
   EXPECT_EQ(edges_.AppliedNoise("box").sigma_r, 0.3);
   EXPECT_FALSE(edges_.ApplyNoise("box", ClassNoise{}));
   EXPECT_FALSE(edges_.AppliedNoise("chair").sigma_t.has_value());
+  // A white part that moves beyond the ratio applies too.
+  EXPECT_TRUE(edges_.ApplyNoise("box", Noise(0.26, 0.3, 0.01)));
+  EXPECT_EQ(edges_.AppliedNoise("box").white_sigma_t, 0.01);
+  EXPECT_FALSE(edges_.ApplyNoise("box", Noise(0.26, 0.3, 0.011)));
+  EXPECT_EQ(edges_.AppliedNoise("box").white_sigma_t, 0.01);
+}
+
+// An observation weighed by its hypotheses' scatter is held to the class's
+// white part sigma_I, never to the persistence-inflated estimate or the
+// floor.
+TEST_F(ObjectEdgesTest, AScatterIsHeldToTheWhitePartOnly) {
+  ObjectObservation small = Observation(0.02, 0.02, false);
+  small.from_scatter = true;
+  ObjectObservation large = Observation(0.08, 0.08, false);
+  large.from_scatter = true;
+  edges_.Add(0, small);
+  edges_.Add(0, large);
+  EXPECT_NEAR(TranslationResidual(0), 0.1 / 0.02, 1e-9);
+  EXPECT_NEAR(TranslationResidual(1), 0.1 / 0.08, 1e-9);
+  // Estimate 2 m (a drifting front end's levels), white part 0.05 m.
+  ASSERT_TRUE(edges_.ApplyNoise("box", Noise(2.0, 3.0, 0.05)));
+  edges_.Rebuild(0);
+  EXPECT_NEAR(TranslationResidual(0), 0.1 / 0.05, 1e-9);
+  EXPECT_NEAR(TranslationResidual(1), 0.1 / 0.08, 1e-9);
+  const EdgeSigmas sigmas = EffectiveNoise(small, edges_.AppliedNoise("box"));
+  EXPECT_DOUBLE_EQ(sigmas.t, 0.05);
+  EXPECT_DOUBLE_EQ(sigmas.r, 0.1);  // no white rotation part: its own
 }
 
 // Before the class has an estimate the components weigh as the detection
@@ -153,7 +191,7 @@ TEST_F(ObjectEdgesTest, EdgesWeighWithTheEstimateUnlessTheDetectionClaims) {
   for (int i = 0; i < 3; ++i) {
     EXPECT_NEAR(TranslationResidual(i), 0.1 / 0.05, 1e-9) << i;
   }
-  ASSERT_TRUE(edges_.ApplyNoise("box", ClassNoise{0.5, 0.2}));
+  ASSERT_TRUE(edges_.ApplyNoise("box", Noise(0.5, 0.2)));
   edges_.Rebuild(0);
   EXPECT_NEAR(TranslationResidual(0), 0.1 / 0.5, 1e-9);
   EXPECT_NEAR(TranslationResidual(1), 0.1 / 2.0, 1e-9);

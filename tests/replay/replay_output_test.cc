@@ -202,6 +202,8 @@ TEST(ReplayOutputTest, SummaryJsonReportsWhatTheBackendBelievedOfTheNoise) {
   box.translation.sigma_increment = 0.0625;
   box.translation.correlation = 0.75;
   box.translation.inflation = 2.5;
+  box.scatter.detections = 12;
+  box.scatter.sigma_t = 0.03125;
   result.noise = {box};
   const std::string json =
       FormatReplaySummaryJson("log.jsonl", ReplayOptions(), result);
@@ -221,9 +223,13 @@ TEST(ReplayOutputTest, SummaryJsonReportsWhatTheBackendBelievedOfTheNoise) {
                                             "\"inflation\": 2.5",
                                             "\"rotation\": {",
                                             "\"levels\": 0",
-                                            "\"sigma_level\": null"};
+                                            "\"sigma_level\": null",
+                                            "\"hypothesis_scatter\": {",
+                                            "\"detections\": 12",
+                                            "\"sigma_t\": 0.03125",
+                                            "\"sigma_r\": null"};
   ExpectMembersInOrder(json, members);
-  // Without estimate_noise there is nothing to report: an empty list.
+  // No class with detections: an empty list.
   EXPECT_NE(FormatReplaySummaryJson("log.jsonl", ReplayOptions(), {})
                 .find("\"noise\": []"),
             std::string::npos);

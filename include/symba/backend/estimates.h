@@ -96,9 +96,9 @@ struct ClassNoiseEstimate {
   // class has noise_min_samples levels (or without estimate_noise).
   std::optional<double> sigma_t;  // m
   std::optional<double> sigma_r;  // rad
-  // What a detection of the class that gives no sigma is weighed with:
-  // the larger of the estimate its edges were last built with and
-  // uncalibrated_sigma_*.
+  // What a detection of the class that gives no sigma (and is not weighed
+  // by its hypotheses' scatter) is weighed with: the larger of the estimate
+  // its edges were last built with and uncalibrated_sigma_*.
   double weight_sigma_t = 0.0;  // m
   double weight_sigma_r = 0.0;  // rad
   // The samples behind each estimate: levels and increments, their sigmas
@@ -114,6 +114,17 @@ struct ClassNoiseEstimate {
   };
   Samples translation;  // m
   Samples rotation;     // rad
+  // The detections of the class weighed by their hypotheses' scatter
+  // (BackendOptions::scatter_min_hypotheses): how many, and the medians of
+  // their sigma_t, sigma_r over the last noise_window of them (nullopt:
+  // none). Each such detection is weighed with its own scatter, or with
+  // the class's sigma_increment where that is larger.
+  struct Scatter {
+    int detections = 0;
+    std::optional<double> sigma_t;  // m
+    std::optional<double> sigma_r;  // rad
+  };
+  Scatter scatter;
 };
 
 }  // namespace symba

@@ -62,9 +62,11 @@ struct AssociationScope {
 
 // The scope of a detection in keyframe `kf` seen at t_co (confirmed
 // objects): the position noise the gates use, the detection's sigma_t (or
-// the default) where it declares a noise, else the class's estimate
-// `estimated_sigma_t` (the gate wants the scatter itself, not the floor of
-// the weighting); and one motion step's variance at the object's distance.
+// the default) where it declares a noise, else `estimated_sigma_t`: the
+// class's estimate, or the hypotheses' scatter held to the class's white
+// part (Backend::Impl::GateSigmaT; the gate wants the scatter itself, not
+// the floor of the weighting); and one motion step's variance at the
+// object's distance.
 AssociationScope DetectionScope(const DetectionInput& detection,
                                 const KeyframeState& kf,
                                 const Eigen::Vector3d& t_co,

@@ -95,6 +95,9 @@ class Backend::Impl {
   std::optional<double> GateSigmaT(
       const std::string& class_name,
       const std::optional<HypothesisScatter>& scatter) const;
+  std::optional<double> GateSigmaT(
+      const std::string& class_name,
+      const std::optional<double>& scatter_sigma_t) const;
   // Each class's noise after a keyframe; rebuilds the edges of a class whose
   // noise moved by more than noise_update_ratio.
   void UpdateDetectionNoise(const KeyframeInput& input);

@@ -55,9 +55,8 @@ std::optional<double> DetectionNoiseEstimator::Sigma(
     return std::nullopt;
   }
   const double level = it->second.level.Sigma();
-  if (it->second.increment.size() < min_samples_) return level;
-  // Increments are differences of two errors: sqrt(2) sigma each.
-  return CorrelatedSigma(level, it->second.increment.Sigma() / std::sqrt(2.0));
+  const std::optional<double> increment = IncrementSigma(scales, class_name);
+  return increment ? CorrelatedSigma(level, *increment) : level;
 }
 
 std::optional<double> DetectionNoiseEstimator::IncrementSigma(
@@ -82,10 +81,7 @@ NoiseSamplesReport DetectionNoiseEstimator::Report(
   if (report.levels >= min_samples_) {
     report.sigma_level = it->second.level.Sigma();
   }
-  if (report.increments >= min_samples_) {
-    // Increments are differences of two errors: sqrt(2) sigma each.
-    report.sigma_increment = it->second.increment.Sigma() / std::sqrt(2.0);
-  }
+  report.sigma_increment = IncrementSigma(scales, class_name);
   if (report.sigma_level && report.sigma_increment) {
     report.correlation =
         IncrementCorrelation(*report.sigma_level, *report.sigma_increment);

@@ -60,7 +60,7 @@ std::string DetectionId(const KeyframeInput& input, size_t d) {
 
 bool WantsScatter(const DetectionInput& detection,
                   const BackendOptions& options) {
-  return !detection.sigma_t && !detection.sigma_r &&
+  return !detection.sigma_t && !detection.sigma_r && options.estimate_noise &&
          options.scatter_min_hypotheses > 0 &&
          static_cast<int>(detection.hypotheses.size()) >=
              options.scatter_min_hypotheses;

@@ -23,7 +23,8 @@ namespace symba::internal {
 std::string DetectionId(const KeyframeInput& input, size_t d);
 
 // True if `detection` gives no sigma and has enough hypotheses for its
-// scatter to weigh it (BackendOptions::scatter_min_hypotheses).
+// scatter to weigh it (BackendOptions::scatter_min_hypotheses, under
+// estimate_noise: the class's white part holds it).
 bool WantsScatter(const DetectionInput& detection,
                   const BackendOptions& options);
 // The scatter of a detection that WantsScatter, if its categorisation kept

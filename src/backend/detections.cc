@@ -49,11 +49,19 @@ Status Backend::Impl::CategorizeDetections(const KeyframeInput& input) {
 
 std::optional<double> Backend::Impl::GateSigmaT(
     const std::string& class_name,
-    const std::optional<HypothesisScatter>& scatter) const {
+    const std::optional<double>& scatter_sigma_t) const {
   const internal::ClassNoise applied = edges_.AppliedNoise(class_name);
-  if (!scatter) return applied.sigma_t;
+  if (!scatter_sigma_t) return applied.sigma_t;
   return internal::EffectiveSigma(
-      scatter->sigma_t, false, applied.white_sigma_t);
+      *scatter_sigma_t, false, applied.white_sigma_t);
+}
+
+std::optional<double> Backend::Impl::GateSigmaT(
+    const std::string& class_name,
+    const std::optional<HypothesisScatter>& scatter) const {
+  return GateSigmaT(
+      class_name,
+      scatter ? std::optional<double>(scatter->sigma_t) : std::nullopt);
 }
 
 void Backend::Impl::AddDetection(

@@ -5,6 +5,21 @@
 #include <utility>
 
 namespace symba::internal {
+
+StepSigmas StepSigmasOf(const KeyframeState& kf) {
+  // Information 1 / variance, finite and positive (a huge or tiny stated
+  // sigma counts as unstated).
+  auto usable = [](double variance) {
+    return variance > 0.0 && std::isfinite(variance) &&
+           std::isfinite(1.0 / variance);
+  };
+  StepSigmas sigmas;
+  if (usable(kf.motion_variance_t) && usable(kf.motion_variance_r)) {
+    sigmas.t = std::sqrt(kf.motion_variance_t);
+    sigmas.r = std::sqrt(kf.motion_variance_r);
+  }
+  return sigmas;
+}
 namespace {
 
 Matrix6d DiagonalInformation(double sigma_t, double sigma_r) {
@@ -28,24 +43,12 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
   }
   graph.fixed.insert(0);
   for (int k = 1; k < n; ++k) {
-    const KeyframeState& kf = *keyframes[k];
-    // Information 1 / variance, finite and positive (a huge or tiny stated
-    // sigma counts as unstated).
-    auto usable = [](double variance) {
-      return variance > 0.0 && std::isfinite(variance) &&
-             std::isfinite(1.0 / variance);
-    };
-    const bool stated =
-        usable(kf.motion_variance_t) && usable(kf.motion_variance_r);
+    const StepSigmas sigmas = StepSigmasOf(*keyframes[k]);
     PoseGraphEdge edge;
     edge.from = k - 1;
     edge.to = k;
     edge.T_ab = Normalized(graph.poses.at(k - 1).Inverse() * graph.poses.at(k));
-    edge.information =
-        stated
-            ? DiagonalInformation(std::sqrt(kf.motion_variance_t),
-                                  std::sqrt(kf.motion_variance_r))
-            : DiagonalInformation(kUnstatedMotionSigmaT, kUnstatedMotionSigmaR);
+    edge.information = DiagonalInformation(sigmas.t, sigmas.r);
     graph.edges.push_back(std::move(edge));
   }
   for (const LoopConstraint& loop : loops) {

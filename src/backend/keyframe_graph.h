@@ -36,6 +36,15 @@ namespace symba::internal {
 inline constexpr double kUnstatedMotionSigmaT = 1.0;
 inline constexpr double kUnstatedMotionSigmaR = 1.0;
 
+// The sigmas (m, rad) of keyframe `kf`'s step from its predecessor: its
+// stated motion variance, or kUnstatedMotionSigma_* where it states none
+// (or one whose information 1 / variance is not finite and positive).
+struct StepSigmas {
+  double t = kUnstatedMotionSigmaT;
+  double r = kUnstatedMotionSigmaR;
+};
+StepSigmas StepSigmasOf(const KeyframeState& kf);
+
 // A relative pose between two keyframes (indices): `later`'s pose in
 // `earlier`'s frame.
 struct LoopConstraint {

@@ -17,16 +17,6 @@
 #include "symba/matching/constellation_match.h"
 
 namespace symba {
-namespace {
-
-// The sigma of one step's camera motion (m or rad); a step without a
-// stated one counts as in the keyframe graph.
-double StepSigma(double variance, double unstated_sigma) {
-  return variance > 0.0 && std::isfinite(variance) ? std::sqrt(variance)
-                                                   : unstated_sigma;
-}
-
-}  // namespace
 
 Backend::Impl::LoopCandidates Backend::Impl::ObjectLoopCandidates() const {
   const internal::ObjectList& objects = map_.objects();
@@ -73,12 +63,9 @@ bool Backend::Impl::WithinPossibleDrift(int earlier,
   double bound_r = 0.0;
   for (int i = earlier + 1; i <= later; ++i) {
     const internal::KeyframeState& kf = *keyframes[i];
-    const double sigma_r =
-        StepSigma(kf.motion_variance_r, internal::kUnstatedMotionSigmaR);
-    bound_t +=
-        StepSigma(kf.motion_variance_t, internal::kUnstatedMotionSigmaT) +
-        sigma_r * (t_later - kf.T_wc().t).norm();
-    bound_r += sigma_r;
+    const internal::StepSigmas sigmas = internal::StepSigmasOf(kf);
+    bound_t += sigmas.t + sigmas.r * (t_later - kf.T_wc().t).norm();
+    bound_r += sigmas.r;
   }
   const double factor = options_.loop_drift_factor;
   const ConstellationMatchOptions match;
@@ -192,11 +179,13 @@ double Backend::Impl::PositionSigma(const internal::ObjectState& o) const {
   // detection's own, or its scatter held to the class's white part, or the
   // class's estimate, or the default.
   const internal::ObjectObservation& first = o.observations.front();
-  const internal::ClassNoise applied = edges_.AppliedNoise(o.class_name);
-  const double sigma_t = first.claimed_t ? first.sigma_t
-                         : first.from_scatter
-                             ? internal::EffectiveNoise(first, applied).t
-                             : applied.sigma_t.value_or(first.sigma_t);
+  const double sigma_t =
+      first.claimed_t
+          ? first.sigma_t
+          : GateSigmaT(o.class_name,
+                       first.from_scatter ? std::optional<double>(first.sigma_t)
+                                          : std::nullopt)
+                .value_or(first.sigma_t);
   return sigma_t / std::sqrt(std::max(1, o.keyframes_seen));
 }
 

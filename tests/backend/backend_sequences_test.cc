@@ -259,7 +259,7 @@ void ExpectSymbaTracksBaselinesFragment(const ScriptedSequenceSpec& spec,
 // ---------------------------------------------------------------------------
 // A detector that declares no noise (the paper's setting): the spread of
 // its 30 hypotheses about their modes is its noise (docs/backend.md "Real
-// detectors", 5). Test 1's orbit with no sigma on any detection: symba
+// detectors", 4). Test 1's orbit with no sigma on any detection: symba
 // pulls the drifting camera back within test 1's tolerances, and reports
 // the scatter within 15 % of the noise the hypotheses were drawn with.
 // Without the scatter (scatter_min_hypotheses 0) the same detections are
@@ -304,6 +304,14 @@ TEST(BackendSequences, AnUndeclaredDetectorCorrectsTheCameraByItsScatter) {
   EXPECT_NEAR(
       *scatter.sigma_r, spec.rotation_sigma, 0.15 * spec.rotation_sigma);
   EXPECT_EQ(floored->Noise().front().scatter.detections, 0);
+
+  // The baselines are weighed alike (they categorise only for the scatter).
+  BackendOptions mh;
+  mh.method = Method::kMultiHypothesis;
+  std::unique_ptr<Backend> baseline;
+  ASSERT_NO_FATAL_FAILURE(RunSequence(seq, mh, &baseline));
+  EXPECT_EQ(baseline->Noise().front().scatter.detections,
+            static_cast<int>(baseline->Assignments().size()));
 }
 
 // ---------------------------------------------------------------------------

@@ -13,9 +13,13 @@
 
 #include "backend/association.h"
 #include "backend/detection_noise.h"
+#include "backend/detection_observations.h"
 #include "backend/upgrade_evidence.h"
 #include "backend/window_problem.h"
+#include "symba/categorization/categorize.h"
 #include "symba/geometry/angle.h"
+#include "test_support/hypothesis_generator.h"
+#include "test_support/random.h"
 
 namespace symba::internal {
 namespace {
@@ -112,6 +116,75 @@ TEST(DetectionNoiseEstimator, ReportsTheSamplesBehindEachEstimate) {
               1e-12);
   EXPECT_EQ(noise.RotationReport("box").levels, 0);
   EXPECT_EQ(noise.RotationReport("can").levels, 3);
+}
+
+// The white part (sigma_I alone) exists only for a class with detections
+// measured by their scatter; the scatter report gives their count and
+// median sigmas.
+TEST(DetectionNoiseEstimator, TheWhitePartHoldsOnlyAScatteredClass) {
+  using Kind = DetectionNoiseEstimator::Kind;
+  DetectionNoiseEstimator noise(100, 3);
+  for (int i = 0; i < 3; ++i) {
+    noise.AddTranslation("box", Kind::kLevel, 0.2);
+    noise.AddTranslation("box", Kind::kIncrement, 0.1 * std::sqrt(2.0));
+  }
+  EXPECT_FALSE(noise.Estimate("box").white_sigma_t.has_value());
+  EXPECT_EQ(noise.ScatterReport("box").detections, 0);
+  EXPECT_FALSE(noise.ScatterReport("box").sigma_t.has_value());
+  noise.AddScatter("box", 0.03, 0.05);
+  noise.AddScatter("box", 0.01, 0.07);
+  noise.AddScatter("box", 0.02, 0.06);
+  // sigma_I = median(0.1 sqrt 2) / (kChi3Median sqrt 2).
+  ASSERT_TRUE(noise.Estimate("box").white_sigma_t.has_value());
+  EXPECT_NEAR(*noise.Estimate("box").white_sigma_t, 0.1 / kChi3Median, 1e-15);
+  EXPECT_FALSE(noise.Estimate("box").white_sigma_r.has_value());
+  const ClassNoiseEstimate::Scatter report = noise.ScatterReport("box");
+  EXPECT_EQ(report.detections, 3);
+  EXPECT_DOUBLE_EQ(*report.sigma_t, 0.02);
+  EXPECT_DOUBLE_EQ(*report.sigma_r, 0.06);
+  // A class with scatters only is listed too.
+  noise.AddScatter("can", 0.01, 0.01);
+  EXPECT_EQ(noise.Classes(), (std::vector<std::string>{"box", "can"}));
+}
+
+// A detection is weighed by its scatter only when it gives no sigma, the
+// noise is estimated, scatter_min_hypotheses allows it, and its inliers are
+// that many and spread at all.
+TEST(UsableScatter, OnlyAnUndeclaredSpreadDetectionOfEnoughHypotheses) {
+  testing::TestRandom random(3);
+  testing::HypothesisSetSpec spec;
+  spec.type = SymmetryType::kAsymmetric;
+  DetectionInput detection;
+  detection.class_name = "box";
+  detection.hypotheses = testing::GenerateDetection(spec, &random).hypotheses;
+  const BackendOptions options;
+  auto scatter = [](const DetectionInput& d, const BackendOptions& o) {
+    CategorizedDetection cat;
+    EXPECT_TRUE(Categorize(d.hypotheses, o.categorization, nullptr, &cat).ok());
+    return UsableScatter(d, d.hypotheses, cat, o);
+  };
+  const std::optional<HypothesisScatter> measured = scatter(detection, options);
+  ASSERT_TRUE(measured.has_value());
+  EXPECT_NEAR(
+      measured->sigma_t, spec.translation_sigma, 0.5 * spec.translation_sigma);
+  // The detection's own word wins, even on one sigma.
+  DetectionInput declared = detection;
+  declared.sigma_r = 0.1;
+  EXPECT_FALSE(scatter(declared, options).has_value());
+  BackendOptions off = options;
+  off.scatter_min_hypotheses = 0;
+  EXPECT_FALSE(scatter(detection, off).has_value());
+  off = options;
+  off.estimate_noise = false;
+  EXPECT_FALSE(scatter(detection, off).has_value());
+  // Four hypotheses, five needed.
+  DetectionInput few = detection;
+  few.hypotheses.resize(4);
+  EXPECT_FALSE(scatter(few, options).has_value());
+  // Thirty copies of one pose say nothing of the noise.
+  DetectionInput copies = detection;
+  copies.hypotheses.assign(30, detection.hypotheses.front());
+  EXPECT_FALSE(scatter(copies, options).has_value());
 }
 
 TEST(EffectiveSigma, ClaimsWinThenTheLargerOfFloorAndEstimate) {

@@ -177,13 +177,13 @@ struct BackendOptions {
   // has the measurements behind these values).
   double uncalibrated_sigma_t = 2.0;  // m
   double uncalibrated_sigma_r = 3.0;  // rad
-  // A detection that gives no sigma but whose categorisation kept at least
-  // scatter_min_hypotheses hypotheses is weighed with their spread about
-  // their modes (MeasureHypothesisScatter: a multi-hypothesis detector's
-  // own word on its noise), or with its class's frame-to-frame noise
-  // sigma_I where that is larger; neither the uncalibrated floor nor the
-  // persistence inflation applies (docs/backend.md "Real detectors", 4).
-  // Every method gets it. 0: never.
+  // With estimate_noise, a detection that gives no sigma but whose
+  // categorisation kept at least scatter_min_hypotheses hypotheses is
+  // weighed with their spread about their modes (MeasureHypothesisScatter:
+  // a multi-hypothesis detector's own word on its noise), or with its
+  // class's frame-to-frame noise sigma_I where that is larger; neither the
+  // uncalibrated floor nor the persistence inflation applies
+  // (docs/backend.md "Real detectors", 4). Every method gets it. 0: never.
   int scatter_min_hypotheses = 5;
   // A confirmed object that was in view (in front of the camera, within
   // the widest bearing and depth any detection had) in min_support_views

@@ -98,7 +98,8 @@ struct ClassNoiseEstimate {
   std::optional<double> sigma_r;  // rad
   // What a detection of the class that gives no sigma (and is not weighed
   // by its hypotheses' scatter) is weighed with: the larger of the estimate
-  // its edges were last built with and uncalibrated_sigma_*.
+  // its edges were last built with and uncalibrated_sigma_*
+  // (hypothesis_sigma_* without estimate_noise).
   double weight_sigma_t = 0.0;  // m
   double weight_sigma_r = 0.0;  // rad
   // The samples behind each estimate: levels and increments, their sigmas
@@ -114,8 +115,9 @@ struct ClassNoiseEstimate {
   };
   Samples translation;  // m
   Samples rotation;     // rad
-  // The detections of the class weighed by their hypotheses' scatter
-  // (BackendOptions::scatter_min_hypotheses): how many, and the medians of
+  // The detections of the class measured by their hypotheses' scatter
+  // (BackendOptions::scatter_min_hypotheses; a rotation outlier that got
+  // no edge counts too): how many, and the medians of
   // their sigma_t, sigma_r over the last noise_window of them (nullopt:
   // none). Each such detection is weighed with its own scatter, or with
   // the class's sigma_increment where that is larger.

@@ -18,7 +18,10 @@
 // and, for isotropic Gaussian noise of sigma per axis, |e| follows a chi
 // distribution whose median is 1.5382 sigma (3 DoF) or 1.1774 sigma (2 DoF):
 //
-//   sigma = median_j e_j / chi_median(DoF).
+//   sigma = sqrt(N / (N - 1)) median_j e_j / chi_median(DoF),
+//
+// N the inliers (their mode's centre is fitted to them, which shrinks the
+// errors by sqrt((N - 1) / N)).
 //
 // The median ignores the few hypotheses the categorisation kept that belong
 // to no mode. A single hypothesis has no spread (count 1).

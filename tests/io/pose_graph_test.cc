@@ -194,6 +194,63 @@ TEST(PoseGraphEdgeFactor, JacobiansMatchNumericDifferencesAt200States) {
                          << "\nfirst failure: " << first_failure;
 }
 
+// The analytic Jacobians are the automatic ones in the tangent space (the
+// ambient ones differ only off the unit sphere, which the manifold's plus
+// Jacobian never sees), and the residuals agree to the last bits.
+TEST(PoseGraphEdgeFactor, AnalyticJacobiansAreTheAutomaticOnes) {
+  testing::TestRandom random(11);
+  const ceres::EigenQuaternionManifold quaternion;
+  for (int k = 0; k < 100; ++k) {
+    const Rigid3d T_wa = RandomPose(random, 5.0);
+    const Rigid3d T_ab = RandomPose(random, 2.0);
+    Rigid3d T_wb = T_wa * T_ab *
+                   Rigid3d(random.RotationOfAngle(random.Uniform(0.0, 3.0)),
+                           random.NormalVector(0.3));
+    if (k % 2 == 1) T_wb.q.coeffs() *= -1.0;
+    Matrix6d sqrt_info;
+    ASSERT_TRUE(UpperCholeskyFactor(RandomInformation(random), &sqrt_info));
+    const PoseGraphRotationError rotation_error =
+        k % 3 == 0 ? PoseGraphRotationError::kG2oHalfAngle
+                   : PoseGraphRotationError::kRadians;
+    const std::unique_ptr<ceres::CostFunction> analytic(
+        PoseGraphEdgeFactor::Create(T_ab, sqrt_info, rotation_error));
+    const std::unique_ptr<ceres::CostFunction> automatic(
+        PoseGraphEdgeFactor::CreateAutoDiff(T_ab, sqrt_info, rotation_error));
+    const PoseBlocks a(T_wa, kAsGiven);
+    const PoseBlocks b(T_wb, kAsGiven);
+    const double* parameters[] = {a.q, a.t, b.q, b.t};
+    const int sizes[] = {4, 3, 4, 3};
+    double r_analytic[6], r_automatic[6];
+    double j_analytic[4][24], j_automatic[4][24];
+    double* jac_analytic[] = {
+        j_analytic[0], j_analytic[1], j_analytic[2], j_analytic[3]};
+    double* jac_automatic[] = {
+        j_automatic[0], j_automatic[1], j_automatic[2], j_automatic[3]};
+    ASSERT_TRUE(analytic->Evaluate(parameters, r_analytic, jac_analytic));
+    ASSERT_TRUE(automatic->Evaluate(parameters, r_automatic, jac_automatic));
+    for (int i = 0; i < 6; ++i) {
+      EXPECT_NEAR(r_analytic[i], r_automatic[i], 1e-12) << k;
+    }
+    for (int block = 0; block < 4; ++block) {
+      using Ambient = Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor>;
+      const Eigen::Map<const Ambient> A(jac_analytic[block], 6, sizes[block]);
+      const Eigen::Map<const Ambient> N(jac_automatic[block], 6, sizes[block]);
+      Eigen::MatrixXd tangent_a = A;
+      Eigen::MatrixXd tangent_n = N;
+      if (sizes[block] == 4) {
+        Eigen::Matrix<double, 4, 3, Eigen::RowMajor> plus;
+        ASSERT_TRUE(quaternion.PlusJacobian(parameters[block], plus.data()));
+        tangent_a = A * plus;
+        tangent_n = N * plus;
+      }
+      EXPECT_LT((tangent_a - tangent_n).norm(), 1e-9 * (1.0 + tangent_n.norm()))
+          << "state " << k << " block " << block << "\n"
+          << tangent_a << "\n\n"
+          << tangent_n;
+    }
+  }
+}
+
 TEST(PoseGraphEdgeFactor, ZeroAtTheMeasuredRelativePose) {
   testing::TestRandom random(7);
   for (int k = 0; k < 50; ++k) {

@@ -32,6 +32,7 @@
 #define SYMBA_FACTORS_POSE_GRAPH_EDGE_H_
 
 #include <ceres/autodiff_cost_function.h>
+#include <ceres/sized_cost_function.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -39,6 +40,7 @@
 #include "symba/factors/pose_component.h"
 #include "symba/geometry/rigid3.h"
 #include "symba/geometry/se3.h"
+#include "symba/geometry/so3.h"
 
 namespace symba {
 
@@ -110,10 +112,19 @@ class PoseGraphEdgeFactor {
     return true;
   }
 
-  static ceres::CostFunction* Create(const Rigid3d& T_ab_measured,
-                                     const Matrix6d& sqrt_info,
-                                     PoseGraphRotationError rotation_error =
-                                         PoseGraphRotationError::kRadians) {
+  // The edge with analytic Jacobians (PoseGraphEdgeCost), what the pose
+  // graph solves use.
+  static ceres::CostFunction* Create(
+      const Rigid3d& T_ab_measured,
+      const Matrix6d& sqrt_info,
+      PoseGraphRotationError rotation_error = PoseGraphRotationError::kRadians);
+  // The same edge differentiated by Ceres's automatic differentiation (the
+  // reference the analytic Jacobians are tested against).
+  static ceres::CostFunction* CreateAutoDiff(
+      const Rigid3d& T_ab_measured,
+      const Matrix6d& sqrt_info,
+      PoseGraphRotationError rotation_error =
+          PoseGraphRotationError::kRadians) {
     return new ceres::AutoDiffCostFunction<PoseGraphEdgeFactor, 6, 4, 3, 4, 3>(
         new PoseGraphEdgeFactor(T_ab_measured, sqrt_info, rotation_error));
   }
@@ -123,6 +134,109 @@ class PoseGraphEdgeFactor {
   Matrix6d sqrt_info_;
   double rotation_scale_;
 };
+
+// PoseGraphEdgeFactor's residual r = U e with hand-derived Jacobians, in
+// doubles (a loop closure solves thousands of these edges; automatic
+// differentiation through both poses costs several times more).
+//
+// With C = q_m q_a^-1 (q_m the inverse measurement's rotation, R_C its
+// matrix), d = t_b - t_a and D.q = C q_b = (w, v), for the manifold's
+// left perturbations q <- [1, delta] q (a rotation of 2 delta):
+//
+//   de/dt_a     = [-R_C; 0]               de/dt_b     = [R_C; 0]
+//   de/ddelta_a = [2 R_C Hat(d); -B]      de/ddelta_b = [0; B]
+//   B = s sign(w) (w I - Hat(v)) R_C
+//
+// (the rotation error C [1, delta] q_b = [1, R_C delta] D.q moves vec(D.q)
+// by (w I - Hat(v)) R_C delta; R_a^-1 <- R_a^-1 (I - 2 Hat(delta_a)) moves
+// D.t by 2 R_C Hat(d) delta_a). A quaternion block's ambient Jacobian is
+// J_tangent P^T with P = [w_q I - Hat(v_q); -v_q^T] the manifold's plus
+// Jacobian at q = (w_q, v_q) (Eigen order x, y, z, w), whose columns are
+// orthonormal: J_ambient P = J_tangent exactly.
+class PoseGraphEdgeCost final : public ceres::SizedCostFunction<6, 4, 3, 4, 3> {
+ public:
+  PoseGraphEdgeCost(const Rigid3d& T_ab_measured,
+                    const Matrix6d& sqrt_info,
+                    PoseGraphRotationError rotation_error)
+      : T_ba_measured_(T_ab_measured.Inverse()),
+        sqrt_info_(sqrt_info),
+        rotation_scale_(RotationErrorScale(rotation_error)) {}
+
+  bool Evaluate(double const* const* parameters,
+                double* residuals,
+                double** jacobians) const override {
+    const Eigen::Map<const Eigen::Quaterniond> q_wa(parameters[0]);
+    const Eigen::Map<const Eigen::Vector3d> t_wa(parameters[1]);
+    const Eigen::Map<const Eigen::Quaterniond> q_wb(parameters[2]);
+    const Eigen::Map<const Eigen::Vector3d> t_wb(parameters[3]);
+    const Eigen::Quaterniond C = T_ba_measured_.q * q_wa.conjugate();
+    const Eigen::Quaterniond D = C * q_wb;
+    const Eigen::Matrix3d R_C = C.toRotationMatrix();
+    const Eigen::Vector3d d = t_wb - t_wa;
+    const double rotation_scale = (D.w() < 0.0 ? -1.0 : 1.0) * rotation_scale_;
+    Vector6<double> e;
+    e.head<3>() = R_C * d + T_ba_measured_.t;
+    e.tail<3>() = rotation_scale * D.vec();
+    Eigen::Map<Vector6<double>> r(residuals);
+    r = sqrt_info_ * e;
+    if (jacobians == nullptr) return true;
+
+    const Eigen::Matrix3d B =
+        rotation_scale *
+        (D.w() * Eigen::Matrix3d::Identity() - Hat<double>(D.vec())) * R_C;
+    Eigen::Matrix<double, 6, 3> de;
+    if (jacobians[0] != nullptr) {
+      de.topRows<3>() = 2.0 * R_C * Hat<double>(d);
+      de.bottomRows<3>() = -B;
+      AmbientJacobian(sqrt_info_ * de, q_wa, jacobians[0]);
+    }
+    if (jacobians[1] != nullptr) {
+      de.topRows<3>() = -R_C;
+      de.bottomRows<3>().setZero();
+      TranslationJacobian(sqrt_info_ * de, jacobians[1]);
+    }
+    if (jacobians[2] != nullptr) {
+      de.topRows<3>().setZero();
+      de.bottomRows<3>() = B;
+      AmbientJacobian(sqrt_info_ * de, q_wb, jacobians[2]);
+    }
+    if (jacobians[3] != nullptr) {
+      de.topRows<3>() = R_C;
+      de.bottomRows<3>().setZero();
+      TranslationJacobian(sqrt_info_ * de, jacobians[3]);
+    }
+    return true;
+  }
+
+ private:
+  // J_tangent P^T into a row-major 6 x 4 block (see the class comment).
+  static void AmbientJacobian(const Eigen::Matrix<double, 6, 3>& tangent,
+                              const Eigen::Quaterniond& q,
+                              double* ambient) {
+    Eigen::Matrix<double, 4, 3> P;
+    P.topRows<3>() = q.w() * Eigen::Matrix3d::Identity() - Hat<double>(q.vec());
+    P.row(3) = -q.vec().transpose();
+    Eigen::Map<Eigen::Matrix<double, 6, 4, Eigen::RowMajor>> J(ambient);
+    J = tangent * P.transpose();
+  }
+  // A translation block's Jacobian into a row-major 6 x 3 block.
+  static void TranslationJacobian(const Eigen::Matrix<double, 6, 3>& tangent,
+                                  double* out) {
+    Eigen::Map<Eigen::Matrix<double, 6, 3, Eigen::RowMajor>> J(out);
+    J = tangent;
+  }
+
+  Rigid3d T_ba_measured_;
+  Matrix6d sqrt_info_;
+  double rotation_scale_;
+};
+
+inline ceres::CostFunction* PoseGraphEdgeFactor::Create(
+    const Rigid3d& T_ab_measured,
+    const Matrix6d& sqrt_info,
+    PoseGraphRotationError rotation_error) {
+  return new PoseGraphEdgeCost(T_ab_measured, sqrt_info, rotation_error);
+}
 
 }  // namespace symba
 

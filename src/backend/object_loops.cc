@@ -79,12 +79,17 @@ bool Backend::Impl::WithinPossibleDrift(int earlier,
 bool Backend::Impl::MergeDuplicate(int from, int into) {
   const internal::ObjectState& duplicate = *map_.objects()[from];
   if (duplicate.type != map_.objects()[into]->type) return false;
-  // Each of the duplicate's angles is the merged object's nearest one (or
-  // a new one), at the duplicate's rotation after the loop moved it.
+  // Each of the duplicate's angles is the merged object's nearest one
+  // (modulo the class's order where the prior gives it; its observations
+  // are then turned to it) or a new one, at the duplicate's rotation after
+  // the loop moved it.
   std::vector<int> angles;
+  std::vector<int> multiples;
   for (size_t a = 0; a < duplicate.thetas.size(); ++a) {
-    angles.push_back(
-        map_.MatchOrAddAngle(into, duplicate.Rotation(static_cast<int>(a))));
+    int multiple = 0;
+    angles.push_back(map_.MatchOrAddAngle(
+        into, duplicate.Rotation(static_cast<int>(a)), &multiple));
+    multiples.push_back(multiple);
   }
   const std::vector<double> evidence = duplicate.angle_evidence;
   std::vector<internal::ObjectObservation> observations =
@@ -93,7 +98,10 @@ bool Backend::Impl::MergeDuplicate(int from, int into) {
     map_.AddAngleEvidence(into, angles[a], evidence[a]);
   }
   for (internal::ObjectObservation& observation : observations) {
-    if (observation.angle >= 0) observation.angle = angles[observation.angle];
+    if (observation.angle >= 0) {
+      map_.TurnByFold(into, multiples[observation.angle], &observation);
+      observation.angle = angles[observation.angle];
+    }
     edges_.Add(into, std::move(observation));
   }
   return true;

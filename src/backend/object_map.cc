@@ -190,9 +190,35 @@ std::vector<ObjectObservation> ObjectMap::MergeInto(int from, int into) {
   return std::move(duplicate.observations);
 }
 
-int ObjectMap::MatchOrAddAngle(int o, const Eigen::Quaterniond& R_wo) {
+int ObjectMap::MatchOrAddAngle(int o,
+                               const Eigen::Quaterniond& R_wo,
+                               int* multiple) {
+  *multiple = 0;
   const int angle = FindAngle(*objects_[o], R_wo, options_.gate_angle);
-  return angle >= 0 ? angle : AddAngle(o, R_wo);
+  if (angle >= 0) return angle;
+  const int order = KnownOrder(o);
+  if (order > 0) {
+    const FoldedAngle folded =
+        FoldToAngle(*objects_[o], R_wo, order, options_.gate_angle);
+    if (folded.angle >= 0) {
+      *multiple = folded.multiple;
+      return folded.angle;
+    }
+  }
+  return AddAngle(o, R_wo);
+}
+
+void ObjectMap::TurnByFold(int o,
+                           int multiple,
+                           ObjectObservation* observation) const {
+  const int order = KnownOrder(o);
+  if (multiple == 0 || order <= 0) return;
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(
+      -multiple * kTwoPi / order, Eigen::Vector3d(objects_[o]->a_o)));
+  observation->T_co_best.q = (observation->T_co_best.q * turn).normalized();
+  for (PoseComponent& component : observation->components) {
+    component.T_co.q = (component.T_co.q * turn).normalized();
+  }
 }
 
 int ObjectMap::AddAngle(int o, const Eigen::Quaterniond& R_wo) {
@@ -350,12 +376,7 @@ int ObjectMap::MatchOrAddAngle(int o,
     const FoldedAngle folded =
         FoldToAngle(object, R_wo, order, options_.gate_angle);
     if (folded.angle >= 0) {
-      const Eigen::Quaterniond turn(Eigen::AngleAxisd(
-          -folded.multiple * kTwoPi / order, Eigen::Vector3d(object.a_o)));
-      observation->T_co_best.q = (observation->T_co_best.q * turn).normalized();
-      for (PoseComponent& component : observation->components) {
-        component.T_co.q = (component.T_co.q * turn).normalized();
-      }
+      TurnByFold(o, folded.multiple, observation);
       ++statistics_->folded_angles;
       return folded.angle;
     }

@@ -116,8 +116,14 @@ class ObjectMap {
   // (their factor -1, a discrete one's angle still `from`'s).
   std::vector<ObjectObservation> MergeInto(int from, int into);
   // Discrete object o's angle nearest to the world rotation R_wo within
-  // gate_angle, or a new one at R_wo.
-  int MatchOrAddAngle(int o, const Eigen::Quaterniond& R_wo);
+  // gate_angle; else, if the class prior gives the order, the nearest
+  // modulo 2 pi / order (*multiple = m: R_wo Rot(a_o, -m 2 pi / order) is
+  // that angle's pose, the same physical pose); else a new one at R_wo.
+  // *multiple is 0 unless folded.
+  int MatchOrAddAngle(int o, const Eigen::Quaterniond& R_wo, int* multiple);
+  // Turns `observation`'s rotations as MatchOrAddAngle's fold of
+  // `multiple` for discrete object o (a no-op for 0).
+  void TurnByFold(int o, int multiple, ObjectObservation* observation) const;
   // How many objects were confirmed so far (never decreases).
   int confirmations() const { return confirmations_; }
 

@@ -271,6 +271,42 @@ TEST_F(ObjectMapTest, AnglesMatchFoldByTheKnownOrderOrOpen) {
   EXPECT_NEAR(std::abs(*map_->objects()[other]->thetas[1]), kPi, 1e-9);
 }
 
+// A merge reads a duplicate's angle the same way (MatchOrAddAngle on a
+// world rotation): a rotation turned by pi folds onto angle 0 of a class of
+// order 2 with its multiple, and TurnByFold turns an observation at it back
+// to angle 0; without a prior it opens a new angle, multiple 0.
+TEST_F(ObjectMapTest, AMergedAngleFoldsByTheKnownOrder) {
+  ClassPrior prior;
+  prior.symmetry = SymmetryType::kDiscrete;
+  prior.order = 2;
+  prior.axis_o = Eigen::Vector3d::UnitZ();
+  BackendOptions options;
+  options.confirm_keyframes = 1;
+  Build(options, {{"table", prior}});
+  const int table =
+      map_->Create("table", SymmetryType::kAsymmetric, At(0, 0, 2), 0);
+  const int other =
+      map_->Create("bench", SymmetryType::kAsymmetric, At(3, 0, 2), 0);
+  MakeDiscrete(table);
+  MakeDiscrete(other);
+  int multiple = 7;
+  EXPECT_EQ(map_->MatchOrAddAngle(table, AboutZ(0.1), &multiple), 0);
+  EXPECT_EQ(multiple, 0);
+  EXPECT_EQ(map_->MatchOrAddAngle(table, AboutZ(kPi + 0.05), &multiple), 0);
+  EXPECT_EQ(std::abs(multiple), 1);
+  EXPECT_EQ(map_->objects()[table]->thetas.size(), 1u);
+  ObjectObservation seen;
+  seen.T_co_best = Rigid3d(AboutZ(kPi + 0.05), Eigen::Vector3d(0, 0, 2));
+  PoseComponent component;
+  component.T_co = seen.T_co_best;
+  seen.components = {component};
+  map_->TurnByFold(table, multiple, &seen);
+  EXPECT_LT(seen.T_co_best.q.angularDistance(AboutZ(0.05)), 1e-9);
+  EXPECT_LT(seen.components[0].T_co.q.angularDistance(AboutZ(0.05)), 1e-9);
+  EXPECT_EQ(map_->MatchOrAddAngle(other, AboutZ(kPi), &multiple), 1);
+  EXPECT_EQ(multiple, 0);
+}
+
 // An axis 50 deg from its anchor (reanchor_angle 45 deg) is re-anchored at
 // itself; the object's rotations do not move. Within the angle nothing
 // changes.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <string>
@@ -62,17 +63,20 @@ class DisjointSets {
 };
 
 // The problem's cost with the states set to `poses` (the states are put
-// back after).
+// back after); infinity where it cannot be evaluated or is not finite, so
+// that such a start is never preferred.
 double CostAt(const std::vector<Rigid3d>& poses,
               std::vector<Rigid3d>* states,
               ceres::Problem* problem) {
   std::vector<Rigid3d> kept = *states;
   *states = poses;
   double cost = 0.0;
-  problem->Evaluate(
+  const bool evaluated = problem->Evaluate(
       ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
   *states = kept;
-  return cost;
+  return evaluated && std::isfinite(cost)
+             ? cost
+             : std::numeric_limits<double>::infinity();
 }
 
 // Levenberg-Marquardt starts from the chordal guess where it costs less

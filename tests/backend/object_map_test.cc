@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -62,6 +63,25 @@ class ObjectMapTest : public ::testing::Test {
   // Object o as a discrete object about z with one angle, theta 0.
   void MakeDiscrete(int o) {
     map_->Upgrade(o, SymmetryType::kDiscrete, Eigen::Vector3d::UnitZ(), {});
+  }
+
+  // A discrete "table" whose class prior gives order 2 about z and a
+  // discrete "bench" without a prior, each with angle 0 (theta 0).
+  std::pair<int, int> TableOfOrderTwoAndBench() {
+    ClassPrior prior;
+    prior.symmetry = SymmetryType::kDiscrete;
+    prior.order = 2;
+    prior.axis_o = Eigen::Vector3d::UnitZ();
+    BackendOptions options;
+    options.confirm_keyframes = 1;
+    Build(options, {{"table", prior}});
+    const int table =
+        map_->Create("table", SymmetryType::kAsymmetric, At(0, 0, 2), 0);
+    const int bench =
+        map_->Create("bench", SymmetryType::kAsymmetric, At(3, 0, 2), 0);
+    MakeDiscrete(table);
+    MakeDiscrete(bench);
+    return {table, bench};
   }
 
   BackendOptions options_;
@@ -235,19 +255,7 @@ TEST_F(ObjectMapTest, AnUpgradeCountsTheLoadedObservationsForAngleZero) {
 // order is 2 (its rotation turned back by pi); without a prior it opens a
 // new angle.
 TEST_F(ObjectMapTest, AnglesMatchFoldByTheKnownOrderOrOpen) {
-  ClassPrior prior;
-  prior.symmetry = SymmetryType::kDiscrete;
-  prior.order = 2;
-  prior.axis_o = Eigen::Vector3d::UnitZ();
-  BackendOptions options;
-  options.confirm_keyframes = 1;
-  Build(options, {{"table", prior}});
-  const int table =
-      map_->Create("table", SymmetryType::kAsymmetric, At(0, 0, 2), 0);
-  const int other =
-      map_->Create("bench", SymmetryType::kAsymmetric, At(3, 0, 2), 0);
-  MakeDiscrete(table);
-  MakeDiscrete(other);
+  const auto [table, other] = TableOfOrderTwoAndBench();
   auto observation = [](double angle) {
     ObjectObservation o;
     o.T_co_best = Rigid3d(AboutZ(angle), Eigen::Vector3d(0, 0, 2));
@@ -276,19 +284,7 @@ TEST_F(ObjectMapTest, AnglesMatchFoldByTheKnownOrderOrOpen) {
 // order 2 with its multiple, and TurnByFold turns an observation at it back
 // to angle 0; without a prior it opens a new angle, multiple 0.
 TEST_F(ObjectMapTest, AMergedAngleFoldsByTheKnownOrder) {
-  ClassPrior prior;
-  prior.symmetry = SymmetryType::kDiscrete;
-  prior.order = 2;
-  prior.axis_o = Eigen::Vector3d::UnitZ();
-  BackendOptions options;
-  options.confirm_keyframes = 1;
-  Build(options, {{"table", prior}});
-  const int table =
-      map_->Create("table", SymmetryType::kAsymmetric, At(0, 0, 2), 0);
-  const int other =
-      map_->Create("bench", SymmetryType::kAsymmetric, At(3, 0, 2), 0);
-  MakeDiscrete(table);
-  MakeDiscrete(other);
+  const auto [table, other] = TableOfOrderTwoAndBench();
   int multiple = 7;
   EXPECT_EQ(map_->MatchOrAddAngle(table, AboutZ(0.1), &multiple), 0);
   EXPECT_EQ(multiple, 0);

@@ -88,7 +88,7 @@ bool Backend::Impl::MergeDuplicate(int from, int into) {
   for (size_t a = 0; a < duplicate.thetas.size(); ++a) {
     int multiple = 0;
     angles.push_back(map_.MatchOrAddAngle(
-        into, duplicate.Rotation(static_cast<int>(a)), &multiple));
+        into, duplicate.Rotation(static_cast<int>(a)), angles, &multiple));
     multiples.push_back(multiple);
   }
   const std::vector<double> evidence = duplicate.angle_evidence;

@@ -192,6 +192,7 @@ std::vector<ObjectObservation> ObjectMap::MergeInto(int from, int into) {
 
 int ObjectMap::MatchOrAddAngle(int o,
                                const Eigen::Quaterniond& R_wo,
+                               const std::vector<int>& taken,
                                int* multiple) {
   *multiple = 0;
   const int angle = FindAngle(*objects_[o], R_wo, options_.gate_angle);
@@ -200,8 +201,10 @@ int ObjectMap::MatchOrAddAngle(int o,
   if (order > 0) {
     const FoldedAngle folded =
         FoldToAngle(*objects_[o], R_wo, order, options_.gate_angle);
-    if (folded.angle >= 0) {
+    if (folded.angle >= 0 &&
+        std::find(taken.begin(), taken.end(), folded.angle) == taken.end()) {
       *multiple = folded.multiple;
+      ++statistics_->folded_angles;
       return folded.angle;
     }
   }

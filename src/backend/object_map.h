@@ -119,8 +119,13 @@ class ObjectMap {
   // gate_angle; else, if the class prior gives the order, the nearest
   // modulo 2 pi / order (*multiple = m: R_wo Rot(a_o, -m 2 pi / order) is
   // that angle's pose, the same physical pose); else a new one at R_wo.
-  // *multiple is 0 unless folded.
-  int MatchOrAddAngle(int o, const Eigen::Quaterniond& R_wo, int* multiple);
+  // *multiple is 0 unless folded. It never folds onto an angle in
+  // `taken` (a merge's angles of one duplicate stay apart, as a detection
+  // showing several modes does not fold).
+  int MatchOrAddAngle(int o,
+                      const Eigen::Quaterniond& R_wo,
+                      const std::vector<int>& taken,
+                      int* multiple);
   // Turns `observation`'s rotations as MatchOrAddAngle's fold of
   // `multiple` for discrete object o (a no-op for 0).
   void TurnByFold(int o, int multiple, ObjectObservation* observation) const;

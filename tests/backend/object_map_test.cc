@@ -286,11 +286,12 @@ TEST_F(ObjectMapTest, AnglesMatchFoldByTheKnownOrderOrOpen) {
 TEST_F(ObjectMapTest, AMergedAngleFoldsByTheKnownOrder) {
   const auto [table, other] = TableOfOrderTwoAndBench();
   int multiple = 7;
-  EXPECT_EQ(map_->MatchOrAddAngle(table, AboutZ(0.1), &multiple), 0);
+  EXPECT_EQ(map_->MatchOrAddAngle(table, AboutZ(0.1), {}, &multiple), 0);
   EXPECT_EQ(multiple, 0);
-  EXPECT_EQ(map_->MatchOrAddAngle(table, AboutZ(kPi + 0.05), &multiple), 0);
+  EXPECT_EQ(map_->MatchOrAddAngle(table, AboutZ(kPi + 0.05), {}, &multiple), 0);
   EXPECT_EQ(std::abs(multiple), 1);
   EXPECT_EQ(map_->objects()[table]->thetas.size(), 1u);
+  EXPECT_EQ(statistics_.folded_angles, 1);
   ObjectObservation seen;
   seen.T_co_best = Rigid3d(AboutZ(kPi + 0.05), Eigen::Vector3d(0, 0, 2));
   PoseComponent component;
@@ -299,8 +300,38 @@ TEST_F(ObjectMapTest, AMergedAngleFoldsByTheKnownOrder) {
   map_->TurnByFold(table, multiple, &seen);
   EXPECT_LT(seen.T_co_best.q.angularDistance(AboutZ(0.05)), 1e-9);
   EXPECT_LT(seen.components[0].T_co.q.angularDistance(AboutZ(0.05)), 1e-9);
-  EXPECT_EQ(map_->MatchOrAddAngle(other, AboutZ(kPi), &multiple), 1);
+  EXPECT_EQ(map_->MatchOrAddAngle(other, AboutZ(kPi), {}, &multiple), 1);
   EXPECT_EQ(multiple, 0);
+  // An angle this merge took already is no fold target: a new angle opens.
+  EXPECT_EQ(map_->MatchOrAddAngle(table, AboutZ(kPi + 0.05), {0}, &multiple),
+            1);
+  EXPECT_EQ(multiple, 0);
+}
+
+// Order 3, where the turn's direction matters: a rotation 2 pi / 3 + 0.05
+// about the axis folds onto angle 0 with multiple 1 and turns back to 0.05;
+// one at -2 pi / 3 + 0.05 with multiple -1.
+TEST_F(ObjectMapTest, AFoldTurnsByItsMultipleTheRightWay) {
+  ClassPrior prior;
+  prior.symmetry = SymmetryType::kDiscrete;
+  prior.order = 3;
+  prior.axis_o = Eigen::Vector3d::UnitZ();
+  BackendOptions options;
+  options.confirm_keyframes = 1;
+  Build(options, {{"prism", prior}});
+  const int prism =
+      map_->Create("prism", SymmetryType::kAsymmetric, At(0, 0, 2), 0);
+  MakeDiscrete(prism);
+  for (const auto& [angle, expected] :
+       {std::pair{kTwoPi / 3 + 0.05, 1}, std::pair{-kTwoPi / 3 + 0.05, -1}}) {
+    int multiple = 0;
+    EXPECT_EQ(map_->MatchOrAddAngle(prism, AboutZ(angle), {}, &multiple), 0);
+    EXPECT_EQ(multiple, expected);
+    ObjectObservation seen;
+    seen.T_co_best = Rigid3d(AboutZ(angle), Eigen::Vector3d(0, 0, 2));
+    map_->TurnByFold(prism, multiple, &seen);
+    EXPECT_LT(seen.T_co_best.q.angularDistance(AboutZ(0.05)), 1e-9) << angle;
+  }
 }
 
 // An axis 50 deg from its anchor (reanchor_angle 45 deg) is re-anchored at

@@ -75,8 +75,10 @@ PlaceRun MakePlaceRun(const std::vector<PlaceView>& views,
                       const std::vector<ScriptedObject>& objects,
                       double yaw_bias,
                       unsigned seed,
-                      double detection_sigma_t = 0.03) {
+                      double detection_sigma_t = 0.03,
+                      const std::vector<std::vector<int>>& mode_script = {}) {
   ScriptedSequenceSpec spec;
+  spec.mode_script = mode_script;
   spec.detection_sigma_t = detection_sigma_t;
   spec.detection_sigma_r = 0.1;
   TestRandom random(seed);
@@ -129,7 +131,9 @@ PlaceRun MakePlaceRun(const std::vector<PlaceView>& views,
 // up: looking at the place for the first 12 keyframes and from keyframe 36
 // on, away from it (nothing in view) in between, where the odometry's yaw
 // drifts by `yaw_bias` per keyframe. Keyframe 48 is where keyframe 0 was.
-PlaceRun RevisitedPlace(double yaw_bias, double detection_sigma_t = 0.03) {
+PlaceRun RevisitedPlace(double yaw_bias,
+                        double detection_sigma_t = 0.03,
+                        const std::vector<std::vector<int>>& mode_script = {}) {
   std::vector<PlaceView> views;
   for (int k = 0; k < 64; ++k) {
     const double phi = 2.0 * kPi * k / 48.0;
@@ -146,13 +150,16 @@ PlaceRun RevisitedPlace(double yaw_bias, double detection_sigma_t = 0.03) {
                       ObjectsAtPlace(Eigen::Vector3d::Zero()),
                       yaw_bias,
                       7,
-                      detection_sigma_t);
+                      detection_sigma_t,
+                      mode_script);
 }
 
-std::unique_ptr<Backend> ReplayPlaceRun(const PlaceRun& run,
-                                        const BackendOptions& options) {
+std::unique_ptr<Backend> ReplayPlaceRun(
+    const PlaceRun& run,
+    const BackendOptions& options,
+    const std::map<std::string, ClassPrior>& priors = {}) {
   std::unique_ptr<Backend> backend;
-  EXPECT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
+  EXPECT_TRUE(Backend::Create(options, std::nullopt, priors, &backend).ok());
   for (const KeyframeInput& input : run.keyframes) {
     const Status status = backend->AddKeyframe(input);
     EXPECT_TRUE(status.ok()) << status.message();
@@ -234,6 +241,41 @@ TEST(BackendObjectLoop, ARevisitedPlaceIsRecognisedAndItsDuplicatesMerged) {
   EXPECT_LT(rmse_closed, 0.5 * rmse_open);
   EXPECT_LT((closed->Keyframes().back().T_wc.t - run.T_wc_true.back().t).norm(),
             0.1);
+}
+
+// The table's first visit shows only its mode 0, the revisit only mode 1
+// (pi away), and its class prior says it is 2-fold: the revisit's duplicate
+// of the table has its one angle at the other mode. Merged, that angle
+// folds onto the table's (its detections turned by pi) instead of opening
+// a second one; the table stays where it is.
+TEST(BackendObjectLoop, ADuplicateAtAnotherModeFoldsOntoTheKnownOrder) {
+  std::vector<std::vector<int>> modes(64, std::vector<int>{0});
+  for (int k = 36; k < 64; ++k) modes[k] = {1};
+  const PlaceRun run = RevisitedPlace(2.0 * testing::kDegree, 0.03, modes);
+  ClassPrior two_fold;
+  two_fold.symmetry = SymmetryType::kDiscrete;
+  two_fold.order = 2;
+  two_fold.axis_o = Eigen::Vector3d::UnitZ();
+  const std::unique_ptr<Backend> backend =
+      ReplayPlaceRun(run, BackendOptions(), {{"table", two_fold}});
+  const std::vector<LoopClosureReport> loops = backend->LoopClosures();
+  ASSERT_EQ(loops.size(), 1u);
+  const std::set<ObjectId> tables = ObjectsAssignedPerScripted(*backend)[0];
+  ASSERT_EQ(tables.size(), 1u);
+  const std::optional<MapObjectEstimate> table =
+      backend->Object(*tables.begin());
+  ASSERT_TRUE(table.has_value());
+  EXPECT_EQ(table->symmetry, SymmetryType::kDiscrete);
+  EXPECT_EQ(table->angles.size(), 1u);
+  EXPECT_LT((table->t_wo - run.objects[0].T_wo.t).norm(), 0.1);
+  // Its one pose is one of the table's two true ones.
+  const Eigen::Quaterniond R_true = run.objects[0].T_wo.q;
+  const Eigen::Quaterniond R_other =
+      R_true *
+      Eigen::Quaterniond(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitZ()));
+  EXPECT_LT(std::min(table->poses.front().q.angularDistance(R_true),
+                     table->poses.front().q.angularDistance(R_other)),
+            5.0 * testing::kDegree);
 }
 
 // A smaller drift (1 deg per keyframe): the table and the round table are

@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 
 #include "symba/backend/backend.h"
+#include "test_support/backend_replay.h"
 #include "test_support/scripted_sequence.h"
 
 namespace symba {
@@ -30,12 +31,7 @@ using testing::ScriptedSequenceSpec;
 
 // Keyframe position RMSE of the backend's estimate against the truth.
 double KeyframeRmse(const Backend& backend, const ScriptedSequence& seq) {
-  const std::vector<KeyframeEstimate> estimates = backend.Keyframes();
-  double sum = 0.0;
-  for (size_t k = 0; k < estimates.size(); ++k) {
-    sum += (estimates[k].T_wc.t - seq.T_wc_true[k].t).squaredNorm();
-  }
-  return std::sqrt(sum / static_cast<double>(estimates.size()));
+  return testing::KeyframePositionRmse(backend, seq.T_wc_true);
 }
 
 LoopClosureInput TrueLoopClosure(const ScriptedSequence& seq,

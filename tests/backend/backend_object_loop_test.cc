@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 
 #include "symba/backend/backend.h"
+#include "test_support/backend_replay.h"
 #include "test_support/random.h"
 #include "test_support/scripted_sequence.h"
 
@@ -159,22 +160,13 @@ std::unique_ptr<Backend> ReplayPlaceRun(
     const BackendOptions& options,
     const std::map<std::string, ClassPrior>& priors = {}) {
   std::unique_ptr<Backend> backend;
-  EXPECT_TRUE(Backend::Create(options, std::nullopt, priors, &backend).ok());
-  for (const KeyframeInput& input : run.keyframes) {
-    const Status status = backend->AddKeyframe(input);
-    EXPECT_TRUE(status.ok()) << status.message();
-    EXPECT_TRUE(backend->OptimizeWindow().ok());
-  }
+  testing::ReplayWindowed(
+      run.keyframes, options, std::nullopt, &backend, priors);
   return backend;
 }
 
 double PlaceRunRmse(const Backend& backend, const PlaceRun& run) {
-  const std::vector<KeyframeEstimate> estimates = backend.Keyframes();
-  double sum = 0.0;
-  for (size_t k = 0; k < estimates.size(); ++k) {
-    sum += (estimates[k].T_wc.t - run.T_wc_true[k].t).squaredNorm();
-  }
-  return std::sqrt(sum / static_cast<double>(estimates.size()));
+  return testing::KeyframePositionRmse(backend, run.T_wc_true);
 }
 
 // Per scripted object, the map objects its detections were assigned to

@@ -65,21 +65,28 @@ class ObjectMapTest : public ::testing::Test {
     map_->Upgrade(o, SymmetryType::kDiscrete, Eigen::Vector3d::UnitZ(), {});
   }
 
-  // A discrete "table" whose class prior gives order 2 about z and a
-  // discrete "bench" without a prior, each with angle 0 (theta 0).
-  std::pair<int, int> TableOfOrderTwoAndBench() {
+  // Builds the map with a class prior that makes `class_name` discrete of
+  // `order` about z, and returns a discrete object of it at (0, 0, 2) with
+  // angle 0 (theta 0).
+  int DiscreteOfKnownOrder(const std::string& class_name, int order) {
     ClassPrior prior;
     prior.symmetry = SymmetryType::kDiscrete;
-    prior.order = 2;
+    prior.order = order;
     prior.axis_o = Eigen::Vector3d::UnitZ();
     BackendOptions options;
     options.confirm_keyframes = 1;
-    Build(options, {{"table", prior}});
-    const int table =
-        map_->Create("table", SymmetryType::kAsymmetric, At(0, 0, 2), 0);
+    Build(options, {{class_name, prior}});
+    const int o =
+        map_->Create(class_name, SymmetryType::kAsymmetric, At(0, 0, 2), 0);
+    MakeDiscrete(o);
+    return o;
+  }
+  // A discrete "table" whose class prior gives order 2 about z and a
+  // discrete "bench" without a prior, each with angle 0 (theta 0).
+  std::pair<int, int> TableOfOrderTwoAndBench() {
+    const int table = DiscreteOfKnownOrder("table", 2);
     const int bench =
         map_->Create("bench", SymmetryType::kAsymmetric, At(3, 0, 2), 0);
-    MakeDiscrete(table);
     MakeDiscrete(bench);
     return {table, bench};
   }
@@ -312,16 +319,7 @@ TEST_F(ObjectMapTest, AMergedAngleFoldsByTheKnownOrder) {
 // about the axis folds onto angle 0 with multiple 1 and turns back to 0.05;
 // one at -2 pi / 3 + 0.05 with multiple -1.
 TEST_F(ObjectMapTest, AFoldTurnsByItsMultipleTheRightWay) {
-  ClassPrior prior;
-  prior.symmetry = SymmetryType::kDiscrete;
-  prior.order = 3;
-  prior.axis_o = Eigen::Vector3d::UnitZ();
-  BackendOptions options;
-  options.confirm_keyframes = 1;
-  Build(options, {{"prism", prior}});
-  const int prism =
-      map_->Create("prism", SymmetryType::kAsymmetric, At(0, 0, 2), 0);
-  MakeDiscrete(prism);
+  const int prism = DiscreteOfKnownOrder("prism", 3);
   for (const auto& [angle, expected] :
        {std::pair{kTwoPi / 3 + 0.05, 1}, std::pair{-kTwoPi / 3 + 0.05, -1}}) {
     int multiple = 0;

@@ -1,8 +1,10 @@
 // Feeding keyframes to a Backend as a SLAM system does: each keyframe, then
-// a window solve. Shared by the backend tests; failures are gtest failures.
+// a window solve; and the keyframes' error against the truth. Shared by the
+// backend tests; failures are gtest failures.
 #ifndef SYMBA_TESTS_TEST_SUPPORT_BACKEND_REPLAY_H_
 #define SYMBA_TESTS_TEST_SUPPORT_BACKEND_REPLAY_H_
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <optional>
@@ -17,11 +19,13 @@ namespace symba::testing {
 
 // Creates `backend` and adds every keyframe with a window solve after each.
 // Use with ASSERT_NO_FATAL_FAILURE.
-inline void ReplayWindowed(const std::vector<KeyframeInput>& keyframes,
-                           const BackendOptions& options,
-                           const std::optional<PinholeIntrinsics>& intrinsics,
-                           std::unique_ptr<Backend>* backend) {
-  Status status = Backend::Create(options, intrinsics, {}, backend);
+inline void ReplayWindowed(
+    const std::vector<KeyframeInput>& keyframes,
+    const BackendOptions& options,
+    const std::optional<PinholeIntrinsics>& intrinsics,
+    std::unique_ptr<Backend>* backend,
+    const std::map<std::string, ClassPrior>& class_priors = {}) {
+  Status status = Backend::Create(options, intrinsics, class_priors, backend);
   ASSERT_TRUE(status.ok()) << status.message();
   for (const KeyframeInput& keyframe : keyframes) {
     status = (*backend)->AddKeyframe(keyframe);
@@ -29,6 +33,18 @@ inline void ReplayWindowed(const std::vector<KeyframeInput>& keyframes,
     status = (*backend)->OptimizeWindow();
     ASSERT_TRUE(status.ok()) << status.message();
   }
+}
+
+// The keyframe position RMSE (m) of the backend's estimates against
+// `truth` (one pose per keyframe, in order; no alignment).
+inline double KeyframePositionRmse(const Backend& backend,
+                                   const std::vector<Rigid3d>& truth) {
+  const std::vector<KeyframeEstimate> estimates = backend.Keyframes();
+  double sum = 0.0;
+  for (size_t k = 0; k < estimates.size(); ++k) {
+    sum += (estimates[k].T_wc.t - truth[k].t).squaredNorm();
+  }
+  return std::sqrt(sum / static_cast<double>(estimates.size()));
 }
 
 }  // namespace symba::testing

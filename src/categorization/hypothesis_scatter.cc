@@ -57,10 +57,14 @@ HypothesisScatter MeasureHypothesisScatter(
   scatter.count = static_cast<int>(
       std::min(translation_errors.size(), rotation_errors.size()));
   if (scatter.count < 2) return scatter;
-  scatter.sigma_t =
-      internal::MedianInPlace(&translation_errors) / internal::kChi3Median;
+  // The errors are taken about a centre fitted to the same inliers, which
+  // shrinks them by sqrt((N - 1) / N).
+  const double fitted_centre = std::sqrt(scatter.count / (scatter.count - 1.0));
+  scatter.sigma_t = fitted_centre *
+                    internal::MedianInPlace(&translation_errors) /
+                    internal::kChi3Median;
   scatter.sigma_r =
-      internal::MedianInPlace(&rotation_errors) /
+      fitted_centre * internal::MedianInPlace(&rotation_errors) /
       (categorized.type == SymmetryType::kContinuous ? internal::kChi2Median
                                                      : internal::kChi3Median);
   return scatter;

@@ -3,6 +3,7 @@
 // symmetry type, with outliers among them.
 #include "symba/categorization/hypothesis_scatter.h"
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -97,6 +98,30 @@ TEST(HypothesisScatter, AnotherModeIsNoSpread) {
   EXPECT_EQ(scatter.count, 20);
   EXPECT_LT(scatter.sigma_r, 0.02);  // tilts of 0, 0.01, 0.02 rad
   EXPECT_DOUBLE_EQ(scatter.sigma_t, 0.0);
+}
+
+// Exact value: six hypotheses of one rotation, 1 cm from their centre along
+// +-x, +-y, +-z: every error 1 cm, N = 6, so sigma_t = sqrt(6 / 5) 0.01 /
+// 1.5381722 (the centre is their mean), and no rotation spread.
+TEST(HypothesisScatter, IsTheMedianOverTheChiMedianForAFittedCentre) {
+  std::vector<PoseHypothesis> hyps;
+  const Eigen::Vector3d centre(0.2, -0.1, 2.0);
+  for (int axis = 0; axis < 3; ++axis) {
+    for (double sign : {-1.0, 1.0}) {
+      PoseHypothesis h;
+      h.T_co = Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(
+                           0.4, Eigen::Vector3d(1, 2, 3).normalized())),
+                       centre + sign * 0.01 * Eigen::Vector3d::Unit(axis));
+      hyps.push_back(h);
+    }
+  }
+  CategorizedDetection cat;
+  ASSERT_TRUE(Categorize(hyps, CategorizationOptions(), nullptr, &cat).ok());
+  ASSERT_EQ(cat.type, SymmetryType::kAsymmetric);
+  const HypothesisScatter scatter = MeasureHypothesisScatter(hyps, cat);
+  EXPECT_EQ(scatter.count, 6);
+  EXPECT_NEAR(scatter.sigma_t, std::sqrt(1.2) * 0.01 / 1.5381722, 1e-9);
+  EXPECT_NEAR(scatter.sigma_r, 0.0, 1e-7);
 }
 
 // One pose has no spread to measure.

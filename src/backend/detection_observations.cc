@@ -68,12 +68,11 @@ bool WantsScatter(const DetectionInput& detection,
 
 std::optional<HypothesisScatter> UsableScatter(
     const DetectionInput& detection,
-    const std::vector<PoseHypothesis>& hypotheses,
     const CategorizedDetection& categorized,
     const BackendOptions& options) {
   if (!WantsScatter(detection, options)) return std::nullopt;
   const HypothesisScatter scatter =
-      MeasureHypothesisScatter(hypotheses, categorized);
+      MeasureHypothesisScatter(detection.hypotheses, categorized);
   // Copies of one pose say nothing of the noise.
   if (scatter.count < options.scatter_min_hypotheses ||
       !(scatter.sigma_t >= kMinSigmaT) || !(scatter.sigma_r >= kMinSigmaR) ||

@@ -32,7 +32,6 @@ bool WantsScatter(const DetectionInput& detection,
 // least kMinSigmaT/R); nullopt otherwise.
 std::optional<HypothesisScatter> UsableScatter(
     const DetectionInput& detection,
-    const std::vector<PoseHypothesis>& hypotheses,
     const CategorizedDetection& categorized,
     const BackendOptions& options);
 

@@ -41,8 +41,7 @@ Status Backend::Impl::CategorizeDetections(const KeyframeInput& input) {
                            ": detection " + DetectionId(input, d) + ": " +
                            status.message());
     }
-    scatters_[d] =
-        internal::UsableScatter(det, det.hypotheses, categorized_[d], options_);
+    scatters_[d] = internal::UsableScatter(det, categorized_[d], options_);
   }
   return Status::Ok();
 }

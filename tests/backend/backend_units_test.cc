@@ -161,7 +161,7 @@ TEST(UsableScatter, OnlyAnUndeclaredSpreadDetectionOfEnoughHypotheses) {
   auto scatter = [](const DetectionInput& d, const BackendOptions& o) {
     CategorizedDetection cat;
     EXPECT_TRUE(Categorize(d.hypotheses, o.categorization, nullptr, &cat).ok());
-    return UsableScatter(d, d.hypotheses, cat, o);
+    return UsableScatter(d, cat, o);
   };
   const std::optional<HypothesisScatter> measured = scatter(detection, options);
   ASSERT_TRUE(measured.has_value());

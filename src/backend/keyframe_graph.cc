@@ -33,7 +33,17 @@ Matrix6d DiagonalInformation(double sigma_t, double sigma_r) {
 
 }  // namespace
 
+Rigid3d ChainStep(const KeyframeList& keyframes, int k, int window_begin) {
+  if (k - 1 >= window_begin) {
+    return Normalized(keyframes[k - 1]->T_wc().Inverse() *
+                      keyframes[k]->T_wc());
+  }
+  return Normalized(keyframes[k - 1]->T_wc_chain.Inverse() *
+                    keyframes[k]->T_wc_chain);
+}
+
 PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
+                            int window_begin,
                             const std::vector<LoopConstraint>& loops,
                             const std::vector<GraphObject>& objects) {
   PoseGraph graph;
@@ -47,7 +57,7 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
     PoseGraphEdge edge;
     edge.from = k - 1;
     edge.to = k;
-    edge.T_ab = Normalized(graph.poses.at(k - 1).Inverse() * graph.poses.at(k));
+    edge.T_ab = ChainStep(keyframes, k, window_begin);
     edge.information = DiagonalInformation(sigmas.t, sigmas.r);
     graph.edges.push_back(std::move(edge));
   }
@@ -93,13 +103,20 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
 }
 
 Status OptimizeKeyframeGraph(const KeyframeList& keyframes,
+                             int window_begin,
                              const std::vector<LoopConstraint>& loops,
                              const std::vector<GraphObject>& objects,
                              std::vector<Rigid3d>* keyframe_poses,
                              std::vector<Rigid3d>* object_poses,
                              PoseGraphSolveSummary* summary) {
-  PoseGraph graph = MakeKeyframeGraph(keyframes, loops, objects);
+  PoseGraph graph = MakeKeyframeGraph(keyframes, window_begin, loops, objects);
+  // From the current estimates, not the chordal relaxation: the estimates
+  // are what the window's solves made of the objects and points, and the
+  // relaxation, which sees the rotations first, has only the motion's
+  // loose rotations where the camera saw no asymmetric object (on the long
+  // scene it folded a featureless stretch by 13 m; docs/loop-closure.md).
   PoseGraphSolveOptions options;
+  options.initialization = PoseGraphInitialization::kGiven;
   Status status = OptimizePoseGraph(options, &graph, summary);
   if (!status.ok()) return status;
   const int64_t n = static_cast<int64_t>(keyframes.size());

@@ -6,8 +6,10 @@
 //
 //   vertices  every keyframe, at its current estimate T_wc; keyframe 0
 //             holds the gauge; every confirmed map object (GraphObject)
-//   edges     consecutive keyframes k-1, k: their estimated relative pose
-//             T_{k-1,k}, information diag(I3 / s_t^2, I3 / s_r^2) from the
+//   edges     consecutive keyframes k-1, k (ChainStep): the camera motion
+//             they were given (the odometry or the front end's relative
+//             pose), or their estimated relative pose where both are in the
+//             window; information diag(I3 / s_t^2, I3 / s_r^2) from the
 //             keyframe's motion variance (kUnstatedMotionSigma_* where it
 //             has no motion factor: the first of a front end's gap);
 //             each loop closure: its T and sigmas;
@@ -16,9 +18,13 @@
 //             weighed with the class's detection noise (position; the
 //             rotation for an asymmetric object only)
 //
-// The estimated relative poses carry what the window's solves made of the
-// objects and points; the loop's error is spread along the chain in
-// proportion to the motion variances.
+// Outside the window the chain is what the camera motion measured, not
+// what the window's solves made of it: where the window was pulled onto
+// objects seen again while its oldest keyframes were held, the estimate
+// keeps a kink that, taken as a measurement with the motion's weight, no
+// closure could spread. The objects' edges carry what the detections said;
+// the loop's error is spread along the chain in proportion to the motion
+// variances. Inside the window the estimate: the window moves as one.
 #ifndef SYMBA_SRC_BACKEND_KEYFRAME_GRAPH_H_
 #define SYMBA_SRC_BACKEND_KEYFRAME_GRAPH_H_
 
@@ -78,9 +84,18 @@ struct GraphObject {
 inline constexpr int kMaxObjectEdges = 16;
 inline constexpr double kSymmetricRotationInformation = 1e-6;  // 1/rad^2
 
-// The graph above for `keyframes` (at least one), `loops` and `objects`
-// (vertex ids: keyframe indices, then keyframes.size() + object index).
+// Keyframe k's step from k - 1 in the graph: the estimated relative pose
+// T_{k-1,k} when k - 1 >= window_begin (both in the window), else the
+// camera motion measured, T_chain(k-1)^-1 T_chain(k) (KeyframeState::
+// T_wc_chain: the odometry, or the front end's relative pose across the
+// keyframes it did not pose).
+Rigid3d ChainStep(const KeyframeList& keyframes, int k, int window_begin);
+
+// The graph above for `keyframes` (at least one), the window's first
+// keyframe (index; <= 0: all in the window), `loops` and `objects` (vertex
+// ids: keyframe indices, then keyframes.size() + object index).
 PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
+                            int window_begin,
                             const std::vector<LoopConstraint>& loops,
                             const std::vector<GraphObject>& objects);
 
@@ -88,6 +103,7 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
 // optimised pose and (*object_poses)[o] object o's. On an error nothing is
 // written.
 Status OptimizeKeyframeGraph(const KeyframeList& keyframes,
+                             int window_begin,
                              const std::vector<LoopConstraint>& loops,
                              const std::vector<GraphObject>& objects,
                              std::vector<Rigid3d>* keyframe_poses,

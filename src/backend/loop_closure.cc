@@ -120,8 +120,13 @@ LoopClosureReport Backend::Impl::CloseLoop(int k,
     std::vector<Rigid3d> keyframe_poses;
     std::vector<Rigid3d> object_poses;
     PoseGraphSolveSummary summary;
-    const Status status = internal::OptimizeKeyframeGraph(
-        keyframes, loops_, objects, &keyframe_poses, &object_poses, &summary);
+    const Status status = internal::OptimizeKeyframeGraph(keyframes,
+                                                          window_begin,
+                                                          loops_,
+                                                          objects,
+                                                          &keyframe_poses,
+                                                          &object_poses,
+                                                          &summary);
     if (status.ok()) {
       const Rigid3d before = keyframes[k]->T_wc();
       // The window moves as one: its solves made its keyframes, objects and

@@ -128,9 +128,11 @@ class Backend::Impl {
   // either changed the map.
   bool DetectObjectLoop();
   bool CloseLoopFromObjects();
-  // Each recent confirmed object that is, within the association gates,
-  // the one earlier object of its class and type last detected before it
-  // was first detected is merged into it; returns how many.
+  // Each confirmed object first detected recently or detected by the
+  // newest keyframe that is, within the association gates, the one other
+  // confirmed object of its class and type no keyframe detected together
+  // with it, is merged with it (the later-made into the earlier-made);
+  // returns how many.
   int MergeRevisitedDuplicates();
   // Whether a and b are one object by the association gates: positions
   // within gate_sigmas of their uncertainty (PositionSigma) and

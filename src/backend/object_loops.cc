@@ -231,34 +231,69 @@ bool Backend::Impl::SameObject(const internal::ObjectState& a,
   return false;
 }
 
+namespace {
+
+// No keyframe detected both: two objects one keyframe showed together are
+// two objects.
+bool NeverSeenTogether(const internal::ObjectState& a,
+                       const internal::ObjectState& b) {
+  std::vector<int> keyframes;
+  keyframes.reserve(a.observations.size());
+  for (const internal::ObjectObservation& o : a.observations) {
+    keyframes.push_back(o.keyframe);
+  }
+  std::sort(keyframes.begin(), keyframes.end());
+  for (const internal::ObjectObservation& o : b.observations) {
+    if (std::binary_search(keyframes.begin(), keyframes.end(), o.keyframe)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+bool IsMapped(const internal::ObjectState& o) {
+  return o.status == internal::ObjectStatus::kConfirmed &&
+         !o.observations.empty();
+}
+
+}  // namespace
+
 int Backend::Impl::MergeRevisitedDuplicates() {
   const internal::ObjectList& objects = map_.objects();
   const int n = static_cast<int>(trajectory_.keyframes().size());
   const int recent_begin = std::max(0, n - options_.loop_recent_keyframes);
   int merged = 0;
   for (size_t r = 0; r < objects.size(); ++r) {
-    const internal::ObjectState& recent = *objects[r];
-    if (recent.status != internal::ObjectStatus::kConfirmed ||
-        recent.observations.empty() || recent.created_keyframe < recent_begin) {
+    const internal::ObjectState& candidate = *objects[r];
+    // Made recently (a revisit's duplicate), or seen now: two copies of
+    // one object that a drift made and a loop brought together are
+    // detected in turn, each where the other is.
+    if (!IsMapped(candidate) || (candidate.created_keyframe < recent_begin &&
+                                 candidate.last_keyframe != n - 1)) {
       continue;
     }
-    // The one earlier object of its class it now is, as association
-    // would have found it: last detected before it was first detected.
+    // The one other object of its class it now is, as association would
+    // have found it, which no keyframe detected together with it.
     int match = -1;
     int matches = 0;
-    for (int e : map_.ObjectsOfClass(recent.class_name)) {
-      const internal::ObjectState& earlier = *objects[e];
-      if (e == static_cast<int>(r) ||
-          earlier.status != internal::ObjectStatus::kConfirmed ||
-          earlier.observations.empty() ||
-          earlier.last_keyframe >= recent.created_keyframe ||
-          !SameObject(recent, earlier)) {
+    for (int e : map_.ObjectsOfClass(candidate.class_name)) {
+      const internal::ObjectState& other = *objects[e];
+      if (e == static_cast<int>(r) || !IsMapped(other) ||
+          !SameObject(candidate, other) ||
+          !NeverSeenTogether(candidate, other)) {
         continue;
       }
       match = e;
       ++matches;
     }
-    if (matches == 1 && MergeDuplicate(static_cast<int>(r), match)) ++merged;
+    if (matches != 1) continue;
+    // The later-made one goes into the earlier-made one (its id stays).
+    const bool older = std::make_pair(candidate.created_keyframe, r) <
+                       std::make_pair(objects[match]->created_keyframe,
+                                      static_cast<size_t>(match));
+    const int from = older ? match : static_cast<int>(r);
+    const int into = older ? static_cast<int>(r) : match;
+    if (MergeDuplicate(from, into)) ++merged;
   }
   return merged;
 }

@@ -288,6 +288,64 @@ TEST(BackendObjectLoop, TooFewDuplicatesCloseNoLoopAndMergeNothing) {
   EXPECT_NEAR(PlaceRunRmse(*detect, run), PlaceRunRmse(*open, run), 1e-9);
 }
 
+// One chair, seen, left for 24 keyframes whose odometry drifts 2 deg each,
+// and seen again for 48 keyframes: it is mapped again (the drift is beyond
+// the gates), and with one object no loop is found from the objects. At
+// keyframe 84, well after the duplicate stopped being recent, the host
+// closes the loop to keyframe 0: the window, and the duplicate with it,
+// comes back onto the chair, and the two copies are seen in turn. The
+// duplicate is merged once a keyframe detects either of them: one map
+// object, where the chair is.
+TEST(BackendObjectLoop, ADuplicateOnItsObjectMergesWhenSeenAfterALoop) {
+  std::vector<PlaceView> views;
+  for (int k = 0; k < 96; ++k) {
+    const double phi = 2.0 * kPi * k / 48.0;
+    PlaceView view;
+    view.eye = Eigen::Vector3d(2.5 * std::cos(phi), 2.5 * std::sin(phi), 1.2);
+    const bool away = k >= 12 && k < 36;
+    view.target =
+        away ? Eigen::Vector3d(2.0 * view.eye.x(), 2.0 * view.eye.y(), 1.2)
+             : Eigen::Vector3d::Zero();
+    view.drifting = away;
+    views.push_back(view);
+  }
+  std::vector<ScriptedObject> chair = {
+      ObjectsAtPlace(Eigen::Vector3d::Zero())[1]};
+  chair[0].T_wo.t = Eigen::Vector3d(0.0, 0.0, 0.0);
+  const PlaceRun run = MakePlaceRun(views, chair, 2.0 * testing::kDegree, 5);
+  auto replay = [&](const BackendOptions& options) {
+    std::unique_ptr<Backend> backend;
+    EXPECT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
+    for (size_t k = 0; k < run.keyframes.size(); ++k) {
+      EXPECT_TRUE(backend->AddKeyframe(run.keyframes[k]).ok());
+      EXPECT_TRUE(backend->OptimizeWindow().ok());
+      if (k == 84) {
+        LoopClosureInput closure;
+        closure.keyframe = 0;
+        closure.T = run.T_wc_true[0].Inverse() * run.T_wc_true[k];
+        closure.sigma_t = 0.02;
+        closure.sigma_r = 0.01;
+        EXPECT_TRUE(backend->AddLoopClosure(84, closure, nullptr).ok());
+      }
+    }
+    return backend;
+  };
+  BackendOptions without;
+  without.detect_loops = false;
+  const std::unique_ptr<Backend> open = replay(without);
+  const std::unique_ptr<Backend> detect = replay(BackendOptions());
+  // Without loop detection the copies stay two.
+  EXPECT_EQ(open->Objects().size(), 2u);
+  EXPECT_EQ(open->Statistics().objects_merged, 0);
+  EXPECT_TRUE(detect->LoopClosures().size() == 1 &&
+              !detect->LoopClosures()[0].from_objects);
+  EXPECT_EQ(detect->Statistics().objects_merged, 1);
+  ASSERT_EQ(detect->Objects().size(), 1u);
+  EXPECT_LT((detect->Objects()[0].t_wo - chair[0].T_wo.t).norm(), 0.1);
+  // Every detection of the chair is assigned to it.
+  EXPECT_EQ(ObjectsAssignedPerScripted(*detect).at(0).size(), 1u);
+}
+
 // Place B, 8 m from A, has A's arrangement of A's classes. The camera
 // circles A, then B, with accurate odometry: B's objects match A's
 // constellation uniquely, but the correction that would take B onto A is

@@ -128,15 +128,13 @@ PlaceRun MakePlaceRun(const std::vector<PlaceView>& views,
   return run;
 }
 
-// An orbit of 48 keyframes per turn about the origin, 2.5 m out and 1.2 m
-// up: looking at the place for the first 12 keyframes and from keyframe 36
-// on, away from it (nothing in view) in between, where the odometry's yaw
-// drifts by `yaw_bias` per keyframe. Keyframe 48 is where keyframe 0 was.
-PlaceRun RevisitedPlace(double yaw_bias,
-                        double detection_sigma_t = 0.03,
-                        const std::vector<std::vector<int>>& mode_script = {}) {
+// `count` keyframes of an orbit of 48 keyframes per turn about the origin,
+// 2.5 m out and 1.2 m up: looking at the place for the first 12 keyframes
+// and from keyframe 36 on, away from it (nothing in view) in between, where
+// the odometry drifts. Keyframe 48 is where keyframe 0 was.
+std::vector<PlaceView> LeaveAndRevisit(int count) {
   std::vector<PlaceView> views;
-  for (int k = 0; k < 64; ++k) {
+  for (int k = 0; k < count; ++k) {
     const double phi = 2.0 * kPi * k / 48.0;
     PlaceView view;
     view.eye = Eigen::Vector3d(2.5 * std::cos(phi), 2.5 * std::sin(phi), 1.2);
@@ -147,7 +145,15 @@ PlaceRun RevisitedPlace(double yaw_bias,
     view.drifting = away;
     views.push_back(view);
   }
-  return MakePlaceRun(views,
+  return views;
+}
+
+// The place of ObjectsAtPlace left and revisited (LeaveAndRevisit, 64
+// keyframes), the odometry's yaw drifting by `yaw_bias` per keyframe away.
+PlaceRun RevisitedPlace(double yaw_bias,
+                        double detection_sigma_t = 0.03,
+                        const std::vector<std::vector<int>>& mode_script = {}) {
+  return MakePlaceRun(LeaveAndRevisit(64),
                       ObjectsAtPlace(Eigen::Vector3d::Zero()),
                       yaw_bias,
                       7,
@@ -289,30 +295,19 @@ TEST(BackendObjectLoop, TooFewDuplicatesCloseNoLoopAndMergeNothing) {
 }
 
 // One chair, seen, left for 24 keyframes whose odometry drifts 2 deg each,
-// and seen again for 48 keyframes: it is mapped again (the drift is beyond
-// the gates), and with one object no loop is found from the objects. At
-// keyframe 84, well after the duplicate stopped being recent, the host
-// closes the loop to keyframe 0: the window, and the duplicate with it,
-// comes back onto the chair, and the two copies are seen in turn. The
-// duplicate is merged once a keyframe detects either of them: one map
-// object, where the chair is.
+// and seen again from keyframe 36 to 95: it is mapped again (the drift is
+// beyond the gates), and with one object no loop is found from the
+// objects. At keyframe 84, well after the duplicate stopped being recent,
+// the host closes the loop to keyframe 0: the window, and the duplicate
+// with it, comes back onto the chair. The duplicate is merged after the
+// next keyframe that detects either copy: one map object, where the chair
+// is. The earlier rule (only a recent duplicate) left two.
 TEST(BackendObjectLoop, ADuplicateOnItsObjectMergesWhenSeenAfterALoop) {
-  std::vector<PlaceView> views;
-  for (int k = 0; k < 96; ++k) {
-    const double phi = 2.0 * kPi * k / 48.0;
-    PlaceView view;
-    view.eye = Eigen::Vector3d(2.5 * std::cos(phi), 2.5 * std::sin(phi), 1.2);
-    const bool away = k >= 12 && k < 36;
-    view.target =
-        away ? Eigen::Vector3d(2.0 * view.eye.x(), 2.0 * view.eye.y(), 1.2)
-             : Eigen::Vector3d::Zero();
-    view.drifting = away;
-    views.push_back(view);
-  }
   std::vector<ScriptedObject> chair = {
       ObjectsAtPlace(Eigen::Vector3d::Zero())[1]};
   chair[0].T_wo.t = Eigen::Vector3d(0.0, 0.0, 0.0);
-  const PlaceRun run = MakePlaceRun(views, chair, 2.0 * testing::kDegree, 5);
+  const PlaceRun run =
+      MakePlaceRun(LeaveAndRevisit(96), chair, 2.0 * testing::kDegree, 5);
   auto replay = [&](const BackendOptions& options) {
     std::unique_ptr<Backend> backend;
     EXPECT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());

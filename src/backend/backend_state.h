@@ -56,6 +56,9 @@ struct KeyframeState {
   // predicted pose (m^2, rad^2; 0 without a motion factor).
   double motion_variance_t = 0.0;
   double motion_variance_r = 0.0;
+  // The keyframe (index) its camera motion factor relates it to: the
+  // previous one (odometry), or the last the front end posed (-1: none).
+  int motion_from = -1;
   // Every factor touching this keyframe while it is in the window (freed
   // when it leaves).
   std::vector<int> factors;

@@ -33,13 +33,22 @@ Matrix6d DiagonalInformation(double sigma_t, double sigma_r) {
 
 }  // namespace
 
-Rigid3d ChainStep(const KeyframeList& keyframes, int k, int window_begin) {
+ChainStep MeasuredStep(const KeyframeList& keyframes, int k, int window_begin) {
+  ChainStep step;
   if (k - 1 >= window_begin) {
-    return Normalized(keyframes[k - 1]->T_wc().Inverse() *
-                      keyframes[k]->T_wc());
+    step.from = k - 1;
+    step.T =
+        Normalized(keyframes[k - 1]->T_wc().Inverse() * keyframes[k]->T_wc());
+    return step;
   }
-  return Normalized(keyframes[k - 1]->T_wc_chain.Inverse() *
-                    keyframes[k]->T_wc_chain);
+  // The motion factor's own keyframe: chained through k - 1 instead, a
+  // front-end step after odometry-only keyframes would carry their
+  // odometry's error with the front end's weight.
+  const int from = keyframes[k]->motion_from;
+  step.from = from >= 0 && from < k ? from : k - 1;
+  step.T = Normalized(keyframes[step.from]->T_wc_chain.Inverse() *
+                      keyframes[k]->T_wc_chain);
+  return step;
 }
 
 PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
@@ -54,10 +63,11 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
   graph.fixed.insert(0);
   for (int k = 1; k < n; ++k) {
     const StepSigmas sigmas = StepSigmasOf(*keyframes[k]);
+    const ChainStep step = MeasuredStep(keyframes, k, window_begin);
     PoseGraphEdge edge;
-    edge.from = k - 1;
+    edge.from = step.from;
     edge.to = k;
-    edge.T_ab = ChainStep(keyframes, k, window_begin);
+    edge.T_ab = step.T;
     edge.information = DiagonalInformation(sigmas.t, sigmas.r);
     graph.edges.push_back(std::move(edge));
   }

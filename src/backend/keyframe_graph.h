@@ -6,12 +6,13 @@
 //
 //   vertices  every keyframe, at its current estimate T_wc; keyframe 0
 //             holds the gauge; every confirmed map object (GraphObject)
-//   edges     consecutive keyframes k-1, k (ChainStep): the camera motion
-//             they were given (the odometry or the front end's relative
-//             pose), or their estimated relative pose where both are in the
-//             window; information diag(I3 / s_t^2, I3 / s_r^2) from the
-//             keyframe's motion variance (kUnstatedMotionSigma_* where it
-//             has no motion factor: the first of a front end's gap);
+//   edges     each keyframe k and the keyframe its camera motion relates
+//             it to (MeasuredStep): the motion it was given (the odometry
+//             or the front end's relative pose), or, where k - 1 and k are
+//             in the window, k - 1 and their estimated relative pose;
+//             information diag(I3 / s_t^2, I3 / s_r^2) from the keyframe's
+//             motion variance (kUnstatedMotionSigma_* where it states none
+//             usable);
 //             each loop closure: its T and sigmas;
 //             each object and (up to kMaxObjectEdges of) the keyframes that
 //             detected it: the detection's representative pose T_co,
@@ -84,12 +85,17 @@ struct GraphObject {
 inline constexpr int kMaxObjectEdges = 16;
 inline constexpr double kSymmetricRotationInformation = 1e-6;  // 1/rad^2
 
-// Keyframe k's step from k - 1 in the graph: the estimated relative pose
-// T_{k-1,k} when k - 1 >= window_begin (both in the window), else the
-// camera motion measured, T_chain(k-1)^-1 T_chain(k) (KeyframeState::
-// T_wc_chain: the odometry, or the front end's relative pose across the
-// keyframes it did not pose).
-Rigid3d ChainStep(const KeyframeList& keyframes, int k, int window_begin);
+// Keyframe k's (k >= 1) edge to an earlier keyframe in the graph: with
+// k - 1 >= window_begin (both in the window) the estimated relative pose
+// T_{k-1,k}; else the camera motion measured, from the keyframe its motion
+// factor relates it to (KeyframeState::motion_from: k - 1 for odometry,
+// the last keyframe the front end posed otherwise), T_chain(j)^-1
+// T_chain(k) (KeyframeState::T_wc_chain).
+struct ChainStep {
+  int from = -1;  // keyframe index
+  Rigid3d T;      // k's pose in from's frame
+};
+ChainStep MeasuredStep(const KeyframeList& keyframes, int k, int window_begin);
 
 // The graph above for `keyframes` (at least one), the window's first
 // keyframe (index; <= 0: all in the window), `loops` and `objects` (vertex

@@ -89,6 +89,25 @@ void ObjectEdges::Rebuild(int o) {
   object.stale_observations = std::max(object.stale_observations, first);
 }
 
+void ObjectEdges::RestoreKeyframeOrder(int o) {
+  ObjectState& object = *objects_[o];
+  auto by_keyframe = [](const ObjectObservation& a,
+                        const ObjectObservation& b) {
+    return a.keyframe < b.keyframe;
+  };
+  if (std::is_sorted(object.observations.begin(),
+                     object.observations.end(),
+                     by_keyframe)) {
+    return;
+  }
+  std::stable_sort(
+      object.observations.begin(), object.observations.end(), by_keyframe);
+  // Every edge that can be built is built afresh with its new index; the
+  // others' hypotheses are gone and so is anything to rebuild.
+  Rebuild(o, 0, static_cast<int>(object.observations.size()));
+  object.stale_observations = 0;
+}
+
 void ObjectEdges::Rebuild(int o, int begin, int end) {
   ObjectState& object = *objects_[o];
   for (int i = begin; i < end; ++i) {

@@ -49,6 +49,11 @@ class ObjectEdges {
   // Rebuilds the edges of object o's observations still in the window (all
   // under condition); the older ones become stale (ObjectState).
   void Rebuild(int o);
+  // Puts object o's observations back in keyframe order (stable) if they
+  // are not, and then rebuilds every edge it can (each edge names its
+  // observation's index): a merge of two copies of one object that were
+  // detected in turn appends observations older than the last.
+  void RestoreKeyframeOrder(int o);
   // The batch solve first rebuilds every stale edge.
   void RebuildStale();
   // The noise the edges of `class_name` are built with from now on, if it

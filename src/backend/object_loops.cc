@@ -104,6 +104,7 @@ bool Backend::Impl::MergeDuplicate(int from, int into) {
     }
     edges_.Add(into, std::move(observation));
   }
+  edges_.RestoreKeyframeOrder(into);
   return true;
 }
 

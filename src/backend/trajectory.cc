@@ -107,6 +107,7 @@ void Trajectory::AddCameraFactors(int k, const KeyframeInput& input) {
   const double sigma_r = 1.0 / sqrt_info(3, 3);
   kf.motion_variance_t = sigma_t * sigma_t;
   kf.motion_variance_r = sigma_r * sigma_r;
+  kf.motion_from = other;
   KeyframeState& prev = *keyframes_[other];
   FactorRecord record;
   record.cost.reset(RelativePoseFactor::Create(T_other_cur, sqrt_info));

@@ -332,8 +332,8 @@ TEST(BackendObjectLoop, ADuplicateOnItsObjectMergesWhenSeenAfterALoop) {
   // Without loop detection the copies stay two.
   EXPECT_EQ(open->Objects().size(), 2u);
   EXPECT_EQ(open->Statistics().objects_merged, 0);
-  EXPECT_TRUE(detect->LoopClosures().size() == 1 &&
-              !detect->LoopClosures()[0].from_objects);
+  ASSERT_EQ(detect->LoopClosures().size(), 1u);
+  EXPECT_FALSE(detect->LoopClosures()[0].from_objects);
   EXPECT_EQ(detect->Statistics().objects_merged, 1);
   ASSERT_EQ(detect->Objects().size(), 1u);
   EXPECT_LT((detect->Objects()[0].t_wo - chair[0].T_wo.t).norm(), 0.1);

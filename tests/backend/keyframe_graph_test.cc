@@ -4,6 +4,7 @@
 // is spread by a loop instead of kept as a measurement.
 #include "backend/keyframe_graph.h"
 
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -12,24 +13,39 @@
 namespace symba::internal {
 namespace {
 
-Rigid3d PoseAt(double x, double y) {
-  return Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(x, y, 0.0));
+// Keyframe k of a turning path: 0.3 rad of yaw and 0.1 rad of roll per
+// keyframe, 1 m forward in its own frame each step.
+Rigid3d PathPose(int k) {
+  Rigid3d T;
+  for (int i = 1; i <= k; ++i) {
+    const Eigen::Quaterniond turn =
+        Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ())) *
+        Eigen::Quaterniond(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()));
+    T = T * Rigid3d(turn, Eigen::Vector3d(1.0, 0.0, 0.0));
+  }
+  return Normalized(T);
 }
 
-// Keyframes 1 m apart along x, measured exactly by the camera motion (the
-// chain), whose estimates from keyframe `kink` on are 0.5 m off in y: what
-// is left when a window pulled onto objects seen again while its oldest
-// keyframes were held.
+// What a window pulled onto objects seen again while its oldest keyframes
+// were held leaves: from keyframe `kink` on, the estimates are moved by
+// 0.5 m and 0.2 rad against the path.
+const Rigid3d kKink(
+    Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ())),
+    Eigen::Vector3d(0.0, 0.5, 0.0));
+
+// Keyframes along PathPose, measured exactly by odometry (the chain); each
+// keyframe's motion factor relates it to the previous one.
 KeyframeList KinkedKeyframes(int count, int kink) {
   KeyframeList keyframes;
   for (int k = 0; k < count; ++k) {
     auto kf = std::make_unique<KeyframeState>();
     kf->id = k;
-    kf->T_wc_chain = PoseAt(k, 0.0);
-    WritePose(PoseAt(k, k >= kink ? 0.5 : 0.0), kf->q, kf->t);
+    kf->T_wc_chain = PathPose(k);
+    WritePose(k >= kink ? kKink * PathPose(k) : PathPose(k), kf->q, kf->t);
     if (k > 0) {
       kf->motion_variance_t = 0.01 * 0.01;
       kf->motion_variance_r = 0.01 * 0.01;
+      kf->motion_from = k - 1;
     }
     keyframes.push_back(std::move(kf));
   }
@@ -44,23 +60,43 @@ TEST(KeyframeGraph, OutsideTheWindowAStepIsTheMeasuredMotion) {
   const KeyframeList keyframes = KinkedKeyframes(6, 3);
   const int window_begin = 3;
   // Steps 1-3 end at or before the window's first keyframe: the chain's
-  // 1 m along x, the kinked step 3 too.
+  // T_chain(k-1)^-1 T_chain(k), the kinked step 3 too.
   for (int k = 1; k <= 3; ++k) {
-    EXPECT_LT(Distance(ChainStep(keyframes, k, window_begin), PoseAt(1.0, 0.0)),
-              1e-12)
+    const ChainStep step = MeasuredStep(keyframes, k, window_begin);
+    EXPECT_EQ(step.from, k - 1);
+    EXPECT_LT(Distance(step.T, PathPose(k - 1).Inverse() * PathPose(k)), 1e-12)
         << "step " << k;
   }
-  // Steps 4 and 5 are inside the window: the estimate's (also 1 m along x,
-  // both ends kinked alike).
+  // Steps 4 and 5 are inside the window: the estimates' (the same, both
+  // ends kinked alike).
   for (int k = 4; k <= 5; ++k) {
-    EXPECT_LT(Distance(ChainStep(keyframes, k, window_begin), PoseAt(1.0, 0.0)),
-              1e-12);
+    const ChainStep step = MeasuredStep(keyframes, k, window_begin);
+    EXPECT_EQ(step.from, k - 1);
+    EXPECT_LT(Distance(step.T, PathPose(k - 1).Inverse() * PathPose(k)), 1e-12);
   }
-  // With the whole run in the window, the kinked step is the estimate's.
-  EXPECT_LT(Distance(ChainStep(keyframes, 3, 0), PoseAt(1.0, 0.5)), 1e-12);
+  // With the whole run in the window the kinked step is the estimates'.
+  const Rigid3d kinked = PathPose(2).Inverse() * kKink * PathPose(3);
+  EXPECT_LT(Distance(MeasuredStep(keyframes, 3, 0).T, kinked), 1e-12);
+  EXPECT_LT(Distance(MeasuredStep(keyframes, 3, -4).T, kinked), 1e-12);
   const PoseGraph graph = MakeKeyframeGraph(keyframes, window_begin, {}, {});
   ASSERT_EQ(graph.edges.size(), 5u);
-  EXPECT_LT(Distance(graph.edges[2].T_ab, PoseAt(1.0, 0.0)), 1e-12);
+  EXPECT_LT(Distance(graph.edges[2].T_ab, PathPose(2).Inverse() * PathPose(3)),
+            1e-12);
+}
+
+TEST(KeyframeGraph, AFrontEndStepIsMeasuredFromTheKeyframeItWasPosedAfter) {
+  // Keyframe 4's motion factor relates it to keyframe 1, the last the
+  // front end posed before 2 and 3 (odometry only): its measured step is
+  // from 1, not through 2 and 3.
+  KeyframeList keyframes = KinkedKeyframes(5, 5);
+  keyframes[4]->motion_from = 1;
+  const ChainStep step = MeasuredStep(keyframes, 4, 5);
+  EXPECT_EQ(step.from, 1);
+  EXPECT_LT(Distance(step.T, PathPose(1).Inverse() * PathPose(4)), 1e-12);
+  const PoseGraph graph = MakeKeyframeGraph(keyframes, 5, {}, {});
+  ASSERT_EQ(graph.edges.size(), 4u);
+  EXPECT_EQ(graph.edges[3].from, 1);
+  EXPECT_EQ(graph.edges[3].to, 4);
 }
 
 TEST(KeyframeGraph, ALoopSpreadsAKinkLeftOutsideTheWindow) {
@@ -72,7 +108,7 @@ TEST(KeyframeGraph, ALoopSpreadsAKinkLeftOutsideTheWindow) {
   LoopConstraint loop;
   loop.earlier = 0;
   loop.later = 9;
-  loop.T = PoseAt(9.0, 0.0);
+  loop.T = PathPose(9);
   loop.sigma_t = 0.01;
   loop.sigma_r = 0.01;
   std::vector<Rigid3d> keyframe_poses;
@@ -83,14 +119,14 @@ TEST(KeyframeGraph, ALoopSpreadsAKinkLeftOutsideTheWindow) {
           keyframes, 8, {loop}, {}, &keyframe_poses, &object_poses, &summary)
           .ok());
   for (int k = 0; k < 10; ++k) {
-    EXPECT_LT(Distance(keyframe_poses[k], PoseAt(k, 0.0)), 1e-6) << k;
+    EXPECT_LT(Distance(keyframe_poses[k], PathPose(k)), 1e-6) << k;
   }
   // From the estimates (everything in the window) the kink stays in part.
   ASSERT_TRUE(
       OptimizeKeyframeGraph(
           keyframes, 0, {loop}, {}, &keyframe_poses, &object_poses, &summary)
           .ok());
-  EXPECT_GT(Distance(keyframe_poses[5], PoseAt(5.0, 0.0)), 0.1);
+  EXPECT_GT(Distance(keyframe_poses[5], PathPose(5)), 0.1);
 }
 
 }  // namespace

@@ -139,6 +139,37 @@ TEST_F(ObjectEdgesTest, RebuildReplacesEveryLiveEdge) {
   EXPECT_EQ(objects_[0]->stale_observations, 0);
 }
 
+// A merge appended an observation older than the last: the order by
+// keyframe is restored, and each edge names its observation's new index.
+TEST_F(ObjectEdgesTest, RestoreKeyframeOrderSortsAndRenumbersTheEdges) {
+  for (int k = 1; k <= 2; ++k) {
+    keyframes_.push_back(std::make_unique<KeyframeState>());
+    graph_.SetManifold(keyframes_[k]->q, &quaternion_);
+  }
+  for (int k : {0, 2, 1}) {
+    ObjectObservation observation = Observation(0.05, 0.05, true);
+    observation.keyframe = k;
+    edges_.Add(0, observation);
+  }
+  const int last_before = objects_[0]->observations[2].factor;
+  edges_.RestoreKeyframeOrder(0);
+  const std::vector<ObjectObservation>& observations =
+      objects_[0]->observations;
+  ASSERT_EQ(observations.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(observations[i].keyframe, i);
+    const FactorRecord& record = graph_.factor(observations[i].factor);
+    EXPECT_FALSE(record.retired);
+    EXPECT_EQ(record.observation, i);
+    EXPECT_EQ(record.keyframe, i);
+    EXPECT_GT(observations[i].factor, last_before);
+  }
+  // In order already: nothing is rebuilt.
+  const int first = observations[0].factor;
+  edges_.RestoreKeyframeOrder(0);
+  EXPECT_EQ(observations[0].factor, first);
+}
+
 // noise_update_ratio 1.25: the first estimate applies, one within the ratio
 // does not, one beyond it does.
 TEST_F(ObjectEdgesTest, NoiseAppliesOnlyWhenItMovesBeyondTheRatio) {

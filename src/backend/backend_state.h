@@ -176,6 +176,12 @@ struct ObjectState {
   }
 };
 
+// Confirmed and detected: a map object the loop matching, the duplicate
+// merges and the keyframe graph take.
+inline bool IsMapped(const ObjectState& o) {
+  return o.status == ObjectStatus::kConfirmed && !o.observations.empty();
+}
+
 struct PointState {
   int64_t id = 0;
   double p[3] = {0, 0, 0};   // p_w

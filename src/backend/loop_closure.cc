@@ -189,10 +189,7 @@ std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
   std::vector<internal::GraphObject> out(objects.size());
   for (size_t o = 0; o < objects.size(); ++o) {
     const internal::ObjectState& object = *objects[o];
-    if (object.status != internal::ObjectStatus::kConfirmed ||
-        object.observations.empty()) {
-      continue;
-    }
+    if (!internal::IsMapped(object)) continue;
     internal::GraphObject& g = out[o];
     // The baselines call every object asymmetric, and their representative
     // hypothesis flips among a symmetric object's poses: position only.

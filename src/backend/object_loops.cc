@@ -25,8 +25,7 @@ Backend::Impl::LoopCandidates Backend::Impl::ObjectLoopCandidates() const {
   LoopCandidates candidates;
   int first_recent = n;
   for (const auto& object : objects) {
-    if (object->status != internal::ObjectStatus::kConfirmed ||
-        object->observations.empty() ||
+    if (!internal::IsMapped(*object) ||
         object->created_keyframe < recent_begin ||
         unmerged_duplicates_.count(object->id) > 0) {
       continue;
@@ -42,8 +41,7 @@ Backend::Impl::LoopCandidates Backend::Impl::ObjectLoopCandidates() const {
   // keyframe graph can move the keyframes that saw them.
   const int seen_before = std::min(first_recent, n - options_.window_size);
   for (const auto& object : objects) {
-    if (object->status == internal::ObjectStatus::kConfirmed &&
-        !object->observations.empty() && object->last_keyframe >= 0 &&
+    if (internal::IsMapped(*object) && object->last_keyframe >= 0 &&
         object->last_keyframe < seen_before) {
       candidates.earlier.push_back(EstimateOf(*object));
     }
@@ -235,26 +233,20 @@ bool Backend::Impl::SameObject(const internal::ObjectState& a,
 namespace {
 
 // No keyframe detected both: two objects one keyframe showed together are
-// two objects.
+// two objects. One pass over both, which are in keyframe order.
 bool NeverSeenTogether(const internal::ObjectState& a,
                        const internal::ObjectState& b) {
-  std::vector<int> keyframes;
-  keyframes.reserve(a.observations.size());
-  for (const internal::ObjectObservation& o : a.observations) {
-    keyframes.push_back(o.keyframe);
-  }
-  std::sort(keyframes.begin(), keyframes.end());
-  for (const internal::ObjectObservation& o : b.observations) {
-    if (std::binary_search(keyframes.begin(), keyframes.end(), o.keyframe)) {
-      return false;
+  auto i = a.observations.begin();
+  auto j = b.observations.begin();
+  while (i != a.observations.end() && j != b.observations.end()) {
+    if (i->keyframe == j->keyframe) return false;
+    if (i->keyframe < j->keyframe) {
+      ++i;
+    } else {
+      ++j;
     }
   }
   return true;
-}
-
-bool IsMapped(const internal::ObjectState& o) {
-  return o.status == internal::ObjectStatus::kConfirmed &&
-         !o.observations.empty();
 }
 
 }  // namespace
@@ -269,8 +261,9 @@ int Backend::Impl::MergeRevisitedDuplicates() {
     // Made recently (a revisit's duplicate), or seen now: two copies of
     // one object that a drift made and a loop brought together are
     // detected in turn, each where the other is.
-    if (!IsMapped(candidate) || (candidate.created_keyframe < recent_begin &&
-                                 candidate.last_keyframe != n - 1)) {
+    if (!internal::IsMapped(candidate) ||
+        (candidate.created_keyframe < recent_begin &&
+         candidate.last_keyframe != n - 1)) {
       continue;
     }
     // The one other object of its class it now is, as association would
@@ -279,7 +272,7 @@ int Backend::Impl::MergeRevisitedDuplicates() {
     int matches = 0;
     for (int e : map_.ObjectsOfClass(candidate.class_name)) {
       const internal::ObjectState& other = *objects[e];
-      if (e == static_cast<int>(r) || !IsMapped(other) ||
+      if (e == static_cast<int>(r) || !internal::IsMapped(other) ||
           !SameObject(candidate, other) ||
           !NeverSeenTogether(candidate, other)) {
         continue;

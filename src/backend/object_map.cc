@@ -194,10 +194,17 @@ int ObjectMap::MatchOrAddAngle(int o,
                                const Eigen::Quaterniond& R_wo,
                                const std::vector<int>& taken,
                                int* multiple) {
+  return MatchFoldOrAddAngle(o, R_wo, KnownOrder(o), taken, multiple);
+}
+
+int ObjectMap::MatchFoldOrAddAngle(int o,
+                                   const Eigen::Quaterniond& R_wo,
+                                   int order,
+                                   const std::vector<int>& taken,
+                                   int* multiple) {
   *multiple = 0;
   const int angle = FindAngle(*objects_[o], R_wo, options_.gate_angle);
   if (angle >= 0) return angle;
-  const int order = KnownOrder(o);
   if (order > 0) {
     const FoldedAngle folded =
         FoldToAngle(*objects_[o], R_wo, order, options_.gate_angle);
@@ -370,21 +377,12 @@ int ObjectMap::MatchOrAddAngle(int o,
                                const Rigid3d& T_wc,
                                bool may_fold,
                                ObjectObservation* observation) {
-  ObjectState& object = *objects_[o];
   const Eigen::Quaterniond R_wo = (T_wc * observation->T_co_best).q;
-  const int angle = FindAngle(object, R_wo, options_.gate_angle);
-  if (angle >= 0) return angle;
-  const int order = may_fold ? KnownOrder(o) : 0;
-  if (order > 0) {
-    const FoldedAngle folded =
-        FoldToAngle(object, R_wo, order, options_.gate_angle);
-    if (folded.angle >= 0) {
-      TurnByFold(o, folded.multiple, observation);
-      ++statistics_->folded_angles;
-      return folded.angle;
-    }
-  }
-  return AddAngle(o, R_wo);
+  int multiple = 0;
+  const int angle =
+      MatchFoldOrAddAngle(o, R_wo, may_fold ? KnownOrder(o) : 0, {}, &multiple);
+  TurnByFold(o, multiple, observation);
+  return angle;
 }
 
 void ObjectMap::AddAngleEvidence(int o, int angle, double share) {

@@ -145,6 +145,15 @@ class ObjectMap {
   // The class prior's symmetry order when it applies to object o (discrete
   // prior, order >= 2, axis along the object's a_o), else 0.
   int KnownOrder(int o) const;
+  // The MatchOrAddAngles' one rule for discrete object o seen at R_wo: the
+  // angle within gate_angle; else, with order > 0, the one modulo
+  // 2 pi / order that is not in `taken` (*multiple its multiple, counted in
+  // folded_angles); else a new angle. *multiple is 0 unless folded.
+  int MatchFoldOrAddAngle(int o,
+                          const Eigen::Quaterniond& R_wo,
+                          int order,
+                          const std::vector<int>& taken,
+                          int* multiple);
 
   const BackendOptions& options_;
   std::map<std::string, ClassPrior> class_priors_;

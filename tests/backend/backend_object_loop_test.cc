@@ -306,29 +306,19 @@ TEST(BackendObjectLoop, ADuplicateOnItsObjectMergesWhenSeenAfterALoop) {
   std::vector<ScriptedObject> chair = {
       ObjectsAtPlace(Eigen::Vector3d::Zero())[1]};
   chair[0].T_wo.t = Eigen::Vector3d(0.0, 0.0, 0.0);
-  const PlaceRun run =
+  PlaceRun run =
       MakePlaceRun(LeaveAndRevisit(96), chair, 2.0 * testing::kDegree, 5);
-  auto replay = [&](const BackendOptions& options) {
-    std::unique_ptr<Backend> backend;
-    EXPECT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
-    for (size_t k = 0; k < run.keyframes.size(); ++k) {
-      EXPECT_TRUE(backend->AddKeyframe(run.keyframes[k]).ok());
-      EXPECT_TRUE(backend->OptimizeWindow().ok());
-      if (k == 84) {
-        LoopClosureInput closure;
-        closure.keyframe = 0;
-        closure.T = run.T_wc_true[0].Inverse() * run.T_wc_true[k];
-        closure.sigma_t = 0.02;
-        closure.sigma_r = 0.01;
-        EXPECT_TRUE(backend->AddLoopClosure(84, closure, nullptr).ok());
-      }
-    }
-    return backend;
-  };
+  // The host's closure, closed after keyframe 84's window solve.
+  LoopClosureInput closure;
+  closure.keyframe = 0;
+  closure.T = run.T_wc_true[0].Inverse() * run.T_wc_true[84];
+  closure.sigma_t = 0.02;
+  closure.sigma_r = 0.01;
+  run.keyframes[84].loop_closures.push_back(closure);
   BackendOptions without;
   without.detect_loops = false;
-  const std::unique_ptr<Backend> open = replay(without);
-  const std::unique_ptr<Backend> detect = replay(BackendOptions());
+  const std::unique_ptr<Backend> open = ReplayPlaceRun(run, without);
+  const std::unique_ptr<Backend> detect = ReplayPlaceRun(run, BackendOptions());
   // Without loop detection the copies stay two.
   EXPECT_EQ(open->Objects().size(), 2u);
   EXPECT_EQ(open->Statistics().objects_merged, 0);

@@ -75,6 +75,17 @@ INSTANTIATE_TEST_SUITE_P(
       return info.param.name;
     });
 
+// The scatter of `hyps`, categorised with the default options as
+// `expected`. Use with ASSERT_NO_FATAL_FAILURE.
+void CategorizedScatter(const std::vector<PoseHypothesis>& hyps,
+                        SymmetryType expected,
+                        HypothesisScatter* scatter) {
+  CategorizedDetection cat;
+  ASSERT_TRUE(Categorize(hyps, CategorizationOptions(), nullptr, &cat).ok());
+  ASSERT_EQ(cat.type, expected);
+  *scatter = MeasureHypothesisScatter(hyps, cat);
+}
+
 // The scatter is measured about each mode, not about one: a 2-fold
 // detection whose modes lie 180 degrees apart has the rotation scatter of
 // one mode.
@@ -91,10 +102,9 @@ TEST(HypothesisScatter, AnotherModeIsNoSpread) {
                 Eigen::Vector3d(0, 0, 2));
     hyps.push_back(h);
   }
-  CategorizedDetection cat;
-  ASSERT_TRUE(Categorize(hyps, CategorizationOptions(), nullptr, &cat).ok());
-  ASSERT_EQ(cat.type, SymmetryType::kDiscrete);
-  const HypothesisScatter scatter = MeasureHypothesisScatter(hyps, cat);
+  HypothesisScatter scatter;
+  ASSERT_NO_FATAL_FAILURE(
+      CategorizedScatter(hyps, SymmetryType::kDiscrete, &scatter));
   EXPECT_EQ(scatter.count, 20);
   EXPECT_LT(scatter.sigma_r, 0.02);  // tilts of 0, 0.01, 0.02 rad
   EXPECT_DOUBLE_EQ(scatter.sigma_t, 0.0);
@@ -115,10 +125,9 @@ TEST(HypothesisScatter, IsTheMedianOverTheChiMedianForAFittedCentre) {
       hyps.push_back(h);
     }
   }
-  CategorizedDetection cat;
-  ASSERT_TRUE(Categorize(hyps, CategorizationOptions(), nullptr, &cat).ok());
-  ASSERT_EQ(cat.type, SymmetryType::kAsymmetric);
-  const HypothesisScatter scatter = MeasureHypothesisScatter(hyps, cat);
+  HypothesisScatter scatter;
+  ASSERT_NO_FATAL_FAILURE(
+      CategorizedScatter(hyps, SymmetryType::kAsymmetric, &scatter));
   EXPECT_EQ(scatter.count, 6);
   EXPECT_NEAR(scatter.sigma_t, std::sqrt(1.2) * 0.01 / 1.5381722, 1e-9);
   EXPECT_NEAR(scatter.sigma_r, 0.0, 1e-7);

@@ -9,6 +9,7 @@
 
 #include "backend/keyframe_graph.h"
 #include "symba/common/check.h"
+#include "symba/factors/inflated_prior.h"
 
 namespace symba::internal {
 
@@ -257,7 +258,8 @@ std::unique_ptr<MarginalPriorFactor> MovedPrior(
 
 void FactorGraph::MovePriors(const std::vector<Rigid3d>& keyframe_moves,
                              const std::vector<Rigid3d>& object_moves,
-                             const std::vector<Rigid3d>& point_moves) {
+                             const std::vector<Rigid3d>& point_moves,
+                             const std::vector<double>& point_move_variances) {
   const std::vector<Rigid3d>& moves = keyframe_moves;
   using Role = RigidBlockRole;
   if (problem_.prior() != nullptr) {
@@ -273,11 +275,13 @@ void FactorGraph::MovePriors(const std::vector<Rigid3d>& keyframe_moves,
     const std::vector<double*> blocks = problem_.prior_blocks();
     problem_.SetPrior(MovedPrior(*problem_.prior(), blocks, motion_of), blocks);
   }
-  // An entity's prior moved by W, its blocks by their roles.
+  // An entity's prior moved by W, its blocks by their roles, then
+  // inflated by `variance` in every tangent direction.
   auto move = [&](int prior_factor,
                   const Rigid3d& W,
-                  const std::function<Role(const double*)>& role_of) {
-    if (prior_factor < 0 || IsIdentity(W)) return;
+                  const std::function<Role(const double*)>& role_of,
+                  double variance) {
+    if (prior_factor < 0 || (IsIdentity(W) && variance <= 0.0)) return;
     const FactorRecord& record = problem_.factor(prior_factor);
     // A dropped object's prior is retired with it. A loaded map's prior,
     // not yet merged with the run's observations (not a summary), holds
@@ -286,25 +290,39 @@ void FactorGraph::MovePriors(const std::vector<Rigid3d>& keyframe_moves,
     const auto* prior =
         dynamic_cast<const MarginalPriorFactor*>(record.cost.get());
     SYMBA_CHECK(prior != nullptr) << "an entity's prior is not a prior";
-    problem_.ReplaceCost(
-        prior_factor,
+    std::unique_ptr<MarginalPriorFactor> moved =
         MovedPrior(*prior, record.blocks, [&](const double* block) {
           return RigidBlockMotion{role_of(block), W};
-        }));
+        });
+    if (variance > 0.0) {
+      const Eigen::VectorXd added =
+          Eigen::VectorXd::Constant(moved->A().cols(), variance);
+      std::unique_ptr<MarginalPriorFactor> inflated;
+      const Status status = InflatePrior(*moved, added, &inflated);
+      SYMBA_CHECK(status.ok()) << status.message();
+      moved = std::move(inflated);
+    }
+    problem_.ReplaceCost(prior_factor, std::move(moved));
   };
   for (size_t i = 0; i < objects_.size(); ++i) {
     const ObjectState& o = *objects_[i];
-    move(o.prior_factor, object_moves[i], [&o](const double* block) {
-      if (block == o.q) return Role::kRotation;
-      if (block == o.t) return Role::kPosition;
-      if (block == o.a_w) return Role::kAxis;
-      return Role::kUnmoved;  // a discrete angle
-    });
+    move(
+        o.prior_factor,
+        object_moves[i],
+        [&o](const double* block) {
+          if (block == o.q) return Role::kRotation;
+          if (block == o.t) return Role::kPosition;
+          if (block == o.a_w) return Role::kAxis;
+          return Role::kUnmoved;  // a discrete angle
+        },
+        0.0);
   }
   for (size_t i = 0; i < points_.size(); ++i) {
-    move(points_[i]->prior_factor, point_moves[i], [](const double*) {
-      return Role::kPosition;
-    });
+    move(
+        points_[i]->prior_factor,
+        point_moves[i],
+        [](const double*) { return Role::kPosition; },
+        point_move_variances[i]);
   }
 }
 

@@ -85,10 +85,13 @@ class FactorGraph {
   // A loop closure moved keyframe k by keyframe_moves[k] (T_wc <- W T_wc):
   // every prior moves rigidly (rigidly_moved_prior.h), the keyframe
   // prior's blocks each with their keyframe, object o's prior by
-  // object_moves[o], point p's by point_moves[p]. Replaced in place.
+  // object_moves[o], point p's by point_moves[p] and then made less
+  // certain by point_move_variances[p] (m^2, isotropic: how uncertain its
+  // move is; inflated_prior.h). Replaced in place.
   void MovePriors(const std::vector<Rigid3d>& keyframe_moves,
                   const std::vector<Rigid3d>& object_moves,
-                  const std::vector<Rigid3d>& point_moves);
+                  const std::vector<Rigid3d>& point_moves,
+                  const std::vector<double>& point_move_variances);
 
   // The window solve: keyframes before `first` leave the window, then the
   // window's factors and the priors (marginalize), every factor of what

@@ -271,8 +271,15 @@ void Backend::Impl::MovePast(const std::vector<Rigid3d>& moves,
   const internal::PointList& points = trajectory_.points();
   // Each point seen from the window with the window (so that it stays in
   // front of the window's cameras), any other by the mean move of its first
-  // and last observer.
+  // and last observer. Where those two moves take the point to different
+  // places (a point seen on several visits whose keyframes the graph moved
+  // differently), its prior becomes less certain by their spread: the
+  // variance of the two-point distribution, (d / 2)^2 per axis with d the
+  // distance between the two places. Held at full certainty, the prior of a
+  // point seen on every lap would pin it where an approximate move put it,
+  // against the objects and the window's cameras at the next visit.
   std::vector<Rigid3d> point_moves(points.size());
+  std::vector<double> point_move_variances(points.size(), 0.0);
   for (size_t i = 0; i < points.size(); ++i) {
     const internal::PointState& point = *points[i];
     if (point.last_keyframe < 0) continue;
@@ -280,12 +287,15 @@ void Backend::Impl::MovePast(const std::vector<Rigid3d>& moves,
       point_moves[i] = moves.back();
       continue;
     }
-    point_moves[i] =
-        internal::MeanMove(moves,
-                           {point.first_keyframe, point.last_keyframe},
-                           Eigen::Map<const Eigen::Vector3d>(point.p));
+    const Eigen::Vector3d p = Eigen::Map<const Eigen::Vector3d>(point.p);
+    point_moves[i] = internal::MeanMove(
+        moves, {point.first_keyframe, point.last_keyframe}, p);
+    const double spread =
+        (moves[point.first_keyframe] * p - moves[point.last_keyframe] * p)
+            .norm();
+    point_move_variances[i] = 0.25 * spread * spread;
   }
-  graph_.MovePriors(moves, object_moves, point_moves);
+  graph_.MovePriors(moves, object_moves, point_moves, point_move_variances);
 
   for (size_t k = 0; k < keyframes.size(); ++k) {
     internal::WritePose(

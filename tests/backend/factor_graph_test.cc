@@ -1,6 +1,7 @@
 // The factor graph on its own (src/backend/factor_graph.h): which factors a
 // window or batch solve holds, what leaving the window keeps and frees, and
-// the solved poses of a small chain whose answer is known.
+// the solved poses of a small chain whose answer is known, and a point's
+// prior moved by a loop closure.
 #include "backend/factor_graph.h"
 
 #include <memory>
@@ -8,10 +9,12 @@
 
 #include <ceres/manifold.h>
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include "symba/factors/pose_component.h"
 #include "symba/factors/pose_prior_factor.h"
 #include "symba/factors/relative_pose_factor.h"
+#include "symba/factors/reprojection_factor.h"
 
 namespace symba::internal {
 namespace {
@@ -168,6 +171,61 @@ TEST_F(FactorGraphTest, LeavingFreesWhatOnlyTheBatchNeedsUnlessKept) {
       EXPECT_EQ(outcome.prior_size, 0);
     }
   }
+}
+
+// A point seen from keyframes 0-2 gets its prior when they leave; a loop
+// closure's move with an added variance keeps the prior's mean and leaves
+// it the information (L^-1 + var I)^-1.
+TEST_F(FactorGraphTest, AMovedPointsPriorLosesTheMovesVariance) {
+  Build(BackendOptions(), 6, {});
+  PinholeIntrinsics intrinsics;
+  intrinsics.fx = intrinsics.fy = 500.0;
+  intrinsics.cx = 320.0;
+  intrinsics.cy = 240.0;
+  const Eigen::Vector3d p_w(2.0, 1.0, 5.0);
+  auto point = std::make_unique<PointState>();
+  Eigen::Map<Eigen::Vector3d>(point->p) = p_w;
+  point->first_keyframe = 0;
+  point->last_keyframe = 2;
+  points_.push_back(std::move(point));
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d p_c = Truth(k).Inverse() * p_w;
+    const Eigen::Vector2d uv(intrinsics.fx * p_c.x() / p_c.z() + intrinsics.cx,
+                             intrinsics.fy * p_c.y() / p_c.z() + intrinsics.cy);
+    FactorRecord observation;
+    observation.cost.reset(ReprojectionFactor::Create(
+        intrinsics, uv, Eigen::Matrix2d::Identity()));
+    observation.blocks = {keyframes_[k]->q, keyframes_[k]->t, points_[0]->p};
+    observation.keyframe = k;
+    observation.point = 0;
+    graph_->Add(std::move(observation));
+  }
+  SolveOutcome outcome;
+  graph_->SolveWindow(3, &outcome);
+  ASSERT_GE(points_[0]->prior_factor, 0);
+  auto prior_of_point = [&]() -> const MarginalPriorFactor& {
+    return dynamic_cast<const MarginalPriorFactor&>(
+        *graph_->factor(points_[0]->prior_factor).cost);
+  };
+  const Eigen::Matrix3d L = prior_of_point().Information();
+  ASSERT_GT(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(L)
+                .eigenvalues()
+                .minCoeff(),
+            0.0);
+  const double variance = 0.04;
+  graph_->MovePriors(std::vector<Rigid3d>(keyframes_.size()),
+                     std::vector<Rigid3d>(objects_.size()),
+                     {Rigid3d()},
+                     {variance});
+  const Eigen::Matrix3d expected =
+      (L.inverse() + variance * Eigen::Matrix3d::Identity()).inverse();
+  EXPECT_LT((prior_of_point().Information() - expected).norm(),
+            1e-9 * expected.norm());
+  // Its minimum is still where the point is (the observations were exact).
+  const double* parameters[1] = {points_[0]->p};
+  Eigen::VectorXd r(prior_of_point().A().rows());
+  ASSERT_TRUE(prior_of_point().Evaluate(parameters, r.data(), nullptr));
+  EXPECT_LT(r.norm(), 1e-6);
 }
 
 }  // namespace

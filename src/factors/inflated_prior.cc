@@ -3,12 +3,18 @@
 #include <algorithm>
 #include <cmath>
 #include <utility>
-#include <vector>
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/QR>
+#include <Eigen/Cholesky>
+#include <Eigen/SVD>
 
 namespace symba {
+namespace {
+
+// Directions whose information is below this share of the largest are
+// taken as unconstrained (as marginalisation does).
+constexpr double kRelativeInformationThreshold = 1e-10;
+
+}  // namespace
 
 Status InflatePrior(const MarginalPriorFactor& prior,
                     const Eigen::VectorXd& added_variance,
@@ -24,30 +30,43 @@ Status InflatePrior(const MarginalPriorFactor& prior,
   if (!added_variance.allFinite() || (added_variance.array() < 0.0).any()) {
     return Status::Error("the added variance must be finite and >= 0");
   }
-  // The prior's mean and its cost there.
-  const Eigen::VectorXd mean = A.completeOrthogonalDecomposition().solve(-e);
+  // A = W S V^T: the information L = A^T A = B^T B with B = S_k V_k^T over
+  // the directions it constrains (k of them), without forming A^T A.
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(
+      A, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd& s = svd.singularValues();
+  const double largest = s.size() > 0 ? s(0) : 0.0;
+  int k = 0;
+  while (k < s.size() &&
+         s(k) * s(k) > kRelativeInformationThreshold * largest * largest) {
+    ++k;
+  }
+  // The prior's mean (minimum norm in the unconstrained directions) and its
+  // cost there.
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(n);
+  for (int i = 0; i < k; ++i) {
+    mean -= svd.matrixV().col(i) * (svd.matrixU().col(i).dot(e) / s(i));
+  }
   const double floor = (A * mean + e).norm();
-  const Eigen::MatrixXd L = A.transpose() * A;
-  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
-  Eigen::MatrixXd inflated_L =
-      L * (I + added_variance.asDiagonal() * L).inverse();
-  inflated_L = 0.5 * (inflated_L + inflated_L.transpose());
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(inflated_L);
-  const Eigen::VectorXd& s = eigen.eigenvalues();
-  const double threshold = 1e-12 * std::max(1.0, s.maxCoeff());
-  std::vector<int> kept;
-  for (int i = 0; i < n; ++i) {
-    if (s(i) > threshold) kept.push_back(i);
+  // L' = L (I + D L)^-1 = B^T (I_k + B D B^T)^-1 B (push-through), so with
+  // (I_k + B D B^T)^-1 = C C^T the rows A' = C^T B span only what L did.
+  const Eigen::MatrixXd B =
+      s.head(k).asDiagonal() * svd.matrixV().leftCols(k).transpose();
+  const Eigen::MatrixXd M = (Eigen::MatrixXd::Identity(k, k) +
+                             B * added_variance.asDiagonal() * B.transpose())
+                                .inverse();
+  const Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (M + M.transpose()));
+  // The cost at the mean needs a row of its own only where it is not zero
+  // (a prior from marginalisation has none).
+  const bool floor_row = floor > 1e-12 * std::max(1.0, e.norm());
+  const int rows = std::max(1, k + (floor_row ? 1 : 0));
+  Eigen::MatrixXd A_new = Eigen::MatrixXd::Zero(rows, n);
+  Eigen::VectorXd e_new = Eigen::VectorXd::Zero(rows);
+  if (k > 0) {
+    A_new.topRows(k) = llt.matrixU() * B;
+    e_new.head(k) = -A_new.topRows(k) * mean;
   }
-  const int rows = static_cast<int>(kept.size());
-  Eigen::MatrixXd A_new = Eigen::MatrixXd::Zero(rows + 1, n);
-  for (int r = 0; r < rows; ++r) {
-    A_new.row(r) =
-        std::sqrt(s(kept[r])) * eigen.eigenvectors().col(kept[r]).transpose();
-  }
-  Eigen::VectorXd e_new(rows + 1);
-  e_new.head(rows) = -A_new.topRows(rows) * mean;
-  e_new(rows) = floor;
+  if (floor_row) e_new(rows - 1) = floor;
   return MarginalPriorFactor::Create(
       prior.blocks(), std::move(A_new), std::move(e_new), inflated);
 }

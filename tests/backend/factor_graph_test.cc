@@ -200,6 +200,9 @@ TEST_F(FactorGraphTest, AMovedPointsPriorLosesTheMovesVariance) {
     observation.point = 0;
     graph_->Add(std::move(observation));
   }
+  // Off the truth: the prior is made here, and its minimum is not x0.
+  Eigen::Map<Eigen::Vector3d>(points_[0]->p) +=
+      Eigen::Vector3d(0.05, -0.03, 0.04);
   SolveOutcome outcome;
   graph_->SolveWindow(3, &outcome);
   ASSERT_GE(points_[0]->prior_factor, 0);
@@ -212,20 +215,30 @@ TEST_F(FactorGraphTest, AMovedPointsPriorLosesTheMovesVariance) {
                 .eigenvalues()
                 .minCoeff(),
             0.0);
+  // Where the prior has its minimum (a Euclidean block: x0 + d*).
+  auto minimum = [](const MarginalPriorFactor& prior) -> Eigen::Vector3d {
+    return prior.blocks()[0].x0 +
+           prior.A().completeOrthogonalDecomposition().solve(-prior.e());
+  };
+  const Eigen::Vector3d before = minimum(prior_of_point());
+  EXPECT_GT((before - Eigen::Map<const Eigen::Vector3d>(points_[0]->p)).norm(),
+            0.01);
+  const Rigid3d W(Eigen::Quaterniond(Eigen::AngleAxisd(
+                      0.3, Eigen::Vector3d(1, 2, 3).normalized())),
+                  Eigen::Vector3d(0.5, -0.2, 0.1));
   const double variance = 0.04;
   graph_->MovePriors(std::vector<Rigid3d>(keyframes_.size()),
                      std::vector<Rigid3d>(objects_.size()),
-                     {Rigid3d()},
+                     {W},
                      {variance});
+  // Moved, then (L^-1 + var I)^-1 in the moved frame: R (.) R^T.
+  const Eigen::Matrix3d R = W.q.toRotationMatrix();
   const Eigen::Matrix3d expected =
-      (L.inverse() + variance * Eigen::Matrix3d::Identity()).inverse();
+      R * (L.inverse() + variance * Eigen::Matrix3d::Identity()).inverse() *
+      R.transpose();
   EXPECT_LT((prior_of_point().Information() - expected).norm(),
             1e-9 * expected.norm());
-  // Its minimum is still where the point is (the observations were exact).
-  const double* parameters[1] = {points_[0]->p};
-  Eigen::VectorXd r(prior_of_point().A().rows());
-  ASSERT_TRUE(prior_of_point().Evaluate(parameters, r.data(), nullptr));
-  EXPECT_LT(r.norm(), 1e-6);
+  EXPECT_LT((minimum(prior_of_point()) - W * before).norm(), 1e-9);
 }
 
 }  // namespace

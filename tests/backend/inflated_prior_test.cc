@@ -102,6 +102,50 @@ TEST(InflatePrior, LeavesADirectionThePriorDidNotConstrainFree) {
               1e-12);
 }
 
+// Turned, with an information of 1e8: the unconstrained direction gains
+// nothing (no rounding of A^T A leaks into it).
+TEST(InflatePrior, KeepsATurnedUnconstrainedDirectionFreeAtHighInformation) {
+  TestRandom random(17);
+  for (int trial = 0; trial < 100; ++trial) {
+    const Eigen::Matrix3d R = random.Rotation().toRotationMatrix();
+    Eigen::MatrixXd A(2, 3);
+    A.row(0) = 1e4 * R.col(0).transpose();
+    A.row(1) = 1e3 * R.col(1).transpose();
+    const auto prior =
+        PointPrior(random.NormalVector(1.0), A, Eigen::Vector2d(3.0, -2.0));
+    std::unique_ptr<MarginalPriorFactor> inflated;
+    ASSERT_TRUE(
+        InflatePrior(*prior, Eigen::Vector3d::Constant(0.01), &inflated).ok());
+    const Eigen::Matrix3d L = Information(*inflated);
+    // Forming A^T A first left about 1e-8 here.
+    EXPECT_LT((inflated->A() * R.col(2)).squaredNorm(), 1e-20);
+    EXPECT_NEAR(R.col(0).dot(L * R.col(0)), 1e8 / (1.0 + 1e8 * 0.01), 1e-6);
+    EXPECT_NEAR(R.col(1).dot(L * R.col(1)), 1e6 / (1.0 + 1e6 * 0.01), 1e-6);
+  }
+}
+
+// Two inflations add their variances, and the rows do not grow.
+TEST(InflatePrior, InflatingTwiceAddsTheVariances) {
+  TestRandom random(23);
+  Eigen::MatrixXd A(5, 3);
+  for (int i = 0; i < 5; ++i) A.row(i) = 4.0 * random.NormalVector(1.0);
+  Eigen::VectorXd e(5);
+  for (int i = 0; i < 5; ++i) e(i) = random.Uniform(-1.0, 1.0);
+  const auto prior = PointPrior(random.NormalVector(1.0), A, e);
+  const Eigen::Vector3d first(0.01, 0.02, 0.03);
+  const Eigen::Vector3d second(0.04, 0.0, 0.01);
+  std::unique_ptr<MarginalPriorFactor> once;
+  std::unique_ptr<MarginalPriorFactor> twice;
+  ASSERT_TRUE(InflatePrior(*prior, first, &once).ok());
+  ASSERT_TRUE(InflatePrior(*once, second, &twice).ok());
+  const Eigen::Matrix3d L = A.transpose() * A;
+  const Eigen::Matrix3d expected =
+      (L.inverse() + Eigen::Matrix3d((first + second).asDiagonal())).inverse();
+  EXPECT_LT((Information(*twice) - expected).norm(), 1e-9 * expected.norm());
+  EXPECT_EQ(twice->A().rows(), once->A().rows());
+  EXPECT_LE(once->A().rows(), 4);
+}
+
 TEST(InflatePrior, WithoutAddedVarianceSaysWhatThePriorSaid) {
   TestRandom random(5);
   Eigen::MatrixXd A(3, 3);

@@ -12,11 +12,14 @@
 //   L' = L (I + D L)^-1      = (L^-1 + D)^-1 where L is invertible,
 //
 // which is symmetric and positive semi-definite with the null space of L
-// (no direction the prior did not constrain gains information). The
-// inflated factor has A' = S^(1/2) V^T from L' = V S V^T (eigenvalues above
-// a relative threshold) and e' = -A' d*, plus one row that keeps the
-// prior's cost at its mean, |A d* + e|, so that 0.5 |r'|^2 has its
-// minimum where the prior's was, with the same value.
+// (no direction the prior did not constrain gains information). It is
+// computed without forming A^T A: with A = W S V^T and B = S_k V_k^T over
+// the k directions whose information is above 1e-10 of the largest,
+// L' = B^T (I_k + B D B^T)^-1 B, and with (I_k + B D B^T)^-1 = C C^T the
+// inflated factor has A' = C^T B (k rows) and e' = -A' d*, plus one row
+// that keeps the prior's cost at its mean, |A d* + e|, where that is not
+// zero. So 0.5 |r'|^2 has its minimum where the prior's was, with the same
+// value, and inflating again never adds rows.
 #ifndef SYMBA_FACTORS_INFLATED_PRIOR_H_
 #define SYMBA_FACTORS_INFLATED_PRIOR_H_
 

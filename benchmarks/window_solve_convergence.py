@@ -8,7 +8,9 @@ solves Ceres ended converged. Not a test.
 
     build/bin/symba simulate --scene long --seed 1 --out /tmp/long
     PYTHONPATH=build/python python3 benchmarks/window_solve_convergence.py \
-        /tmp/long/log.jsonl [--block 1000]
+        /tmp/long/log.jsonl [--block 1000] [--no-loops]
+
+--no-loops replays with `detect_loops` off (nothing moves the past).
 """
 
 import argparse
@@ -20,11 +22,14 @@ def main():
     parser.add_argument("log", help="a symba log (log.jsonl)")
     parser.add_argument("--block", type=int, default=1000,
                         help="keyframes per printed row")
+    parser.add_argument("--no-loops", action="store_true",
+                        help="detect_loops off: no loop closures")
     args = parser.parse_args()
     import symba
 
     header, keyframes = symba.read_log(args.log)
-    backend = symba.Backend(symba.BackendOptions(), intrinsics=header.camera,
+    options = symba.BackendOptions(detect_loops=not args.no_loops)
+    backend = symba.Backend(options, intrinsics=header.camera,
                             class_priors=header.classes)
     rows = {}
     closures = 0

@@ -33,6 +33,26 @@ Matrix6d DiagonalInformation(double sigma_t, double sigma_r) {
 
 }  // namespace
 
+Rigid3d AxisEdgeMeasurement(const Rigid3d& T_wc,
+                            const Rigid3d& T_wo,
+                            const Eigen::Vector3d& axis_w,
+                            const Eigen::Vector3d& axis_c,
+                            const Eigen::Vector3d& t_co_measured) {
+  const Eigen::Quaterniond q_co = (T_wc.q.inverse() * T_wo.q).normalized();
+  const Eigen::Vector3d predicted = T_wc.q.inverse() * axis_w.normalized();
+  const Eigen::Quaterniond turn =
+      Eigen::Quaterniond::FromTwoVectors(predicted, axis_c.normalized());
+  return Rigid3d((turn * q_co).normalized(), t_co_measured);
+}
+
+Eigen::Matrix3d AxisInformation(const Eigen::Vector3d& a_o,
+                                double information) {
+  const Eigen::Vector3d a = a_o.normalized();
+  const Eigen::Matrix3d along = a * a.transpose();
+  return information * (Eigen::Matrix3d::Identity() - along) +
+         kAxisTurnInformation * along;
+}
+
 ChainStep MeasuredStep(const KeyframeList& keyframes, int k, int window_begin) {
   ChainStep step;
   if (k - 1 >= window_begin) {
@@ -54,7 +74,8 @@ ChainStep MeasuredStep(const KeyframeList& keyframes, int k, int window_begin) {
 PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
                             int window_begin,
                             const std::vector<LoopConstraint>& loops,
-                            const std::vector<GraphObject>& objects) {
+                            const std::vector<GraphObject>& objects,
+                            const PointStepNoise& point_noise) {
   PoseGraph graph;
   const int n = static_cast<int>(keyframes.size());
   for (int k = 0; k < n; ++k) {
@@ -69,6 +90,25 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
     edge.to = k;
     edge.T_ab = step.T;
     edge.information = DiagonalInformation(sigmas.t, sigmas.r);
+    const KeyframeState& kf = *keyframes[k];
+    if (k - 1 < window_begin && step.from == k - 1 && kf.window_step &&
+        point_noise.angle > 0.0 && kf.window_step_points >= kMinStepPoints) {
+      // The window's estimate of the step, with the points' information
+      // added to the motion's.
+      const double scale =
+          kPointStepSigmaScale / std::sqrt(kf.window_step_points);
+      const double sigma_r = scale * point_noise.angle;
+      const double sigma_t =
+          scale * kf.window_step_depth *
+          std::max(point_noise.angle, point_noise.depth_relative);
+      edge.T_ab = *kf.window_step;
+      if (sigma_t > 0.0) {
+        edge.information += DiagonalInformation(sigma_t, sigma_r);
+      } else {
+        edge.information.bottomRightCorner<3, 3>().diagonal().array() +=
+            1.0 / (sigma_r * sigma_r);
+      }
+    }
     graph.edges.push_back(std::move(edge));
   }
   for (const LoopConstraint& loop : loops) {
@@ -106,6 +146,17 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
                       ? Normalized(graph.poses.at(k).Inverse() * object.T_wo)
                       : Normalized(object.measured[i]);
       edge.information = information;
+      if (object.HasAxis()) {
+        const Rigid3d T_wo = Normalized(object.T_wo);
+        edge.T_ab = Normalized(AxisEdgeMeasurement(graph.poses.at(k),
+                                                   T_wo,
+                                                   object.axis_w,
+                                                   object.measured_axes[i],
+                                                   edge.T_ab.t));
+        edge.information.bottomRightCorner<3, 3>() =
+            AxisInformation(T_wo.q.inverse() * object.axis_w,
+                            weight / (object.sigma_axis * object.sigma_axis));
+      }
       graph.edges.push_back(std::move(edge));
     }
   }
@@ -118,8 +169,10 @@ Status OptimizeKeyframeGraph(const KeyframeList& keyframes,
                              const std::vector<GraphObject>& objects,
                              std::vector<Rigid3d>* keyframe_poses,
                              std::vector<Rigid3d>* object_poses,
-                             PoseGraphSolveSummary* summary) {
-  PoseGraph graph = MakeKeyframeGraph(keyframes, window_begin, loops, objects);
+                             PoseGraphSolveSummary* summary,
+                             const PointStepNoise& point_noise) {
+  PoseGraph graph =
+      MakeKeyframeGraph(keyframes, window_begin, loops, objects, point_noise);
   // From the current estimates, not the chordal relaxation: the estimates
   // are what the window's solves made of the objects and points, and the
   // relaxation, which sees the rotations first, has only the motion's

@@ -28,6 +28,19 @@ double AngleDeg(const Eigen::Quaterniond& q) {
          std::atan2(q.vec().norm(), std::abs(q.normalized().w()));
 }
 
+// The axis a symmetric object's detection measured (camera frame, unit,
+// turned to the object's world axis' side), as its window edge takes it.
+Eigen::Vector3d MeasuredAxis(const internal::ObjectState& object,
+                             const internal::ObjectObservation& observation,
+                             const Eigen::Quaterniond& q_wc) {
+  Eigen::Vector3d a_c =
+      observation.axis_c.norm() > 0.0
+          ? observation.axis_c.normalized()
+          : Eigen::Vector3d(observation.T_co_best.q * object.a_o.normalized());
+  if ((q_wc * a_c).dot(object.axis_w()) < 0.0) a_c = -a_c;
+  return a_c;
+}
+
 }  // namespace
 
 Status Backend::Impl::CheckLoopClosure(int k,
@@ -126,7 +139,8 @@ LoopClosureReport Backend::Impl::CloseLoop(int k,
                                                           objects,
                                                           &keyframe_poses,
                                                           &object_poses,
-                                                          &summary);
+                                                          &summary,
+                                                          PointStepNoise());
     if (status.ok()) {
       const Rigid3d before = keyframes[k]->T_wc();
       // The window moves as one: its solves made its keyframes, objects and
@@ -184,6 +198,15 @@ LoopClosureReport Backend::Impl::CloseLoop(int k,
   return report;
 }
 
+internal::PointStepNoise Backend::Impl::PointStepNoise() const {
+  internal::PointStepNoise noise;
+  if (!intrinsics_) return noise;
+  noise.angle =
+      options_.point_sigma_px / std::min(intrinsics_->fx, intrinsics_->fy);
+  noise.depth_relative = options_.point_depth_sigma_relative;
+  return noise;
+}
+
 std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
   const internal::ObjectList& objects = map_.objects();
   std::vector<internal::GraphObject> out(objects.size());
@@ -196,11 +219,21 @@ std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
     g.rotation = object.type == SymmetryType::kAsymmetric &&
                  options_.method == Method::kSymba;
     g.T_wo = Rigid3d(object.Rotation(-1), object.position());
+    // A symmetric object's detections measure its axis (symba only).
+    const bool symmetric_axis = object.type != SymmetryType::kAsymmetric &&
+                                options_.method == Method::kSymba;
+    if (symmetric_axis) g.axis_w = object.axis_w();
     for (const internal::ObjectObservation& observation : object.observations) {
       // A symba detection makes one observation per mode.
       if (g.keyframes.empty() || g.keyframes.back() != observation.keyframe) {
         g.keyframes.push_back(observation.keyframe);
         g.measured.push_back(observation.T_co_best);
+        if (symmetric_axis) {
+          g.measured_axes.push_back(MeasuredAxis(
+              object,
+              observation,
+              trajectory_.keyframes()[observation.keyframe]->T_wc().q));
+        }
       }
     }
     // The noise its edges are weighed with (its first detection's).
@@ -209,6 +242,11 @@ std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
         internal::EffectiveNoise(first, edges_.AppliedNoise(object.class_name));
     g.sigma_t = sigmas.t;
     g.sigma_r = sigmas.r;
+    // The window weighs a continuous object's axis with axis_sigma, a
+    // discrete one's rotation with the detection's.
+    g.sigma_axis = object.type == SymmetryType::kContinuous
+                       ? options_.axis_sigma
+                       : sigmas.r;
   }
   return out;
 }
@@ -248,11 +286,19 @@ std::vector<Rigid3d> Backend::Impl::ObjectMoves(
     }
     const Rigid3d& after = object_poses[o];
     // An asymmetric object turns as its vertex did; a symmetric one, whose
-    // vertex rotation nothing measures, as its detecting keyframes did on
-    // average.
-    const Eigen::Quaterniond R =
+    // vertex rotation about its axis nothing measures, as its detecting
+    // keyframes did on average.
+    Eigen::Quaterniond R =
         g.rotation ? (after.q * g.T_wo.q.inverse()).normalized()
                    : internal::MeanMove(moves, g.keyframes, g.T_wo.t).q;
+    if (g.HasAxis()) {
+      // Its axis as its vertex turned it (its edges measured the axis), the
+      // turn about it as its detecting keyframes did.
+      const Eigen::Vector3d axis_after =
+          after.q * (g.T_wo.q.inverse() * g.axis_w);
+      R = (Eigen::Quaterniond::FromTwoVectors(R * g.axis_w, axis_after) * R)
+              .normalized();
+    }
     out[o] = Rigid3d(R, after.t - R * g.T_wo.t);
   }
   return out;

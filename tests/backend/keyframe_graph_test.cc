@@ -1,9 +1,12 @@
 // The keyframe graph a loop closure optimises (src/backend/keyframe_graph.h):
 // outside the window its chain is the camera motion measured, inside the
 // window the estimate, so that a kink the window's solves left in the past
-// is spread by a loop instead of kept as a measurement.
+// is spread by a loop instead of kept as a measurement; a step the map
+// points saw is the window's estimate with their information, and a
+// symmetric object's detections level the keyframes by its axis.
 #include "backend/keyframe_graph.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -127,6 +130,221 @@ TEST(KeyframeGraph, ALoopSpreadsAKinkLeftOutsideTheWindow) {
           keyframes, 0, {loop}, {}, &keyframe_poses, &object_poses, &summary)
           .ok());
   EXPECT_GT(Distance(keyframe_poses[5], PathPose(5)), 0.1);
+}
+
+// An axis edge's measurement turns the predicted relative rotation by the
+// least rotation that takes the predicted axis onto the measured one, and
+// its information leaves the turn about the axis free.
+TEST(KeyframeGraph, AnAxisEdgeMeasuresTheTiltNotTheTurn) {
+  const Rigid3d T_wc(Eigen::Quaterniond(Eigen::AngleAxisd(
+                         0.7, Eigen::Vector3d(1, 2, 3).normalized())),
+                     Eigen::Vector3d(1.0, -2.0, 0.5));
+  const Rigid3d T_wo(Eigen::Quaterniond(Eigen::AngleAxisd(
+                         -1.1, Eigen::Vector3d(0, 1, 1).normalized())),
+                     Eigen::Vector3d(3.0, 1.0, 0.0));
+  const Eigen::Vector3d axis_w = Eigen::Vector3d(0.1, 0.0, 1.0).normalized();
+  const Eigen::Vector3d predicted = T_wc.q.inverse() * axis_w;
+  // 0.05 rad off, about a direction perpendicular to the predicted axis.
+  const Eigen::Vector3d off =
+      predicted.cross(Eigen::Vector3d::UnitX()).normalized();
+  const Eigen::Vector3d axis_c = Eigen::AngleAxisd(0.05, off) * predicted;
+  const Eigen::Vector3d t_co(0.2, 0.1, 3.0);
+  const Rigid3d M = AxisEdgeMeasurement(T_wc, T_wo, axis_w, axis_c, t_co);
+  const Eigen::Vector3d a_o = T_wo.q.inverse() * axis_w;
+  EXPECT_LT((M.q * a_o - axis_c).norm(), 1e-12);
+  const Eigen::Quaterniond q_co = T_wc.q.inverse() * T_wo.q;
+  EXPECT_NEAR(M.q.angularDistance(q_co), 0.05, 1e-12);
+  EXPECT_EQ((M.t - t_co).norm(), 0.0);
+
+  const Eigen::Matrix3d L = AxisInformation(a_o, 400.0);
+  EXPECT_NEAR(a_o.dot(L * a_o), kAxisTurnInformation, 1e-12);
+  const Eigen::Vector3d u = a_o.unitOrthogonal();
+  const Eigen::Vector3d v = a_o.cross(u);
+  EXPECT_NEAR(u.dot(L * u), 400.0, 1e-9);
+  EXPECT_NEAR(v.dot(L * v), 400.0, 1e-9);
+  EXPECT_NEAR(u.dot(L * v), 0.0, 1e-9);
+  EXPECT_LT((L - L.transpose()).norm(), 1e-12);
+}
+
+// Four keyframes on a level path whose camera motion measured a roll of
+// 0.05 rad per step (loosely: 0.1 rad), around a round table whose axis
+// they measured exactly (0.01 rad) and whose position they measured
+// loosely (1 m). With the axes in the graph each keyframe's tilt is the
+// table's; without them it is the motion's.
+TEST(KeyframeGraph, ASymmetricObjectsAxisLevelsTheKeyframesThatSawIt) {
+  auto level_pose = [](int k) {
+    return Rigid3d(Eigen::Quaterniond(
+                       Eigen::AngleAxisd(0.3 * k, Eigen::Vector3d::UnitZ())),
+                   Eigen::Vector3d(0.5 * k, 0.0, 0.0));
+  };
+  const Eigen::Quaterniond roll(
+      Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitX()));
+  KeyframeList keyframes;
+  Rigid3d chain;
+  for (int k = 0; k < 4; ++k) {
+    auto kf = std::make_unique<KeyframeState>();
+    kf->id = k;
+    if (k > 0) {
+      const Rigid3d step = level_pose(k - 1).Inverse() * level_pose(k);
+      chain = chain * Rigid3d(step.q * roll, step.t);
+      kf->motion_variance_t = 0.01 * 0.01;
+      kf->motion_variance_r = 0.1 * 0.1;
+      kf->motion_from = k - 1;
+    }
+    kf->T_wc_chain = Normalized(chain);
+    WritePose(kf->T_wc_chain, kf->q, kf->t);
+    keyframes.push_back(std::move(kf));
+  }
+  const Rigid3d T_wo(Eigen::Quaterniond::Identity(),
+                     Eigen::Vector3d(1.0, 2.0, 0.0));
+  GraphObject table;
+  table.T_wo = T_wo;
+  table.sigma_t = 1.0;
+  table.sigma_r = 0.1;
+  table.axis_w = Eigen::Vector3d::UnitZ();
+  table.sigma_axis = 0.01;
+  for (int k = 0; k < 4; ++k) {
+    table.keyframes.push_back(k);
+    table.measured.push_back(level_pose(k).Inverse() * T_wo);
+    table.measured_axes.push_back(level_pose(k).q.inverse() *
+                                  Eigen::Vector3d::UnitZ());
+  }
+  ASSERT_TRUE(table.HasAxis());
+  auto tilt_error = [&](const std::vector<Rigid3d>& poses, int k) {
+    const Eigen::Vector3d up_estimated =
+        poses[k].q.inverse() * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d up_true =
+        level_pose(k).q.inverse() * Eigen::Vector3d::UnitZ();
+    return std::acos(std::min(1.0, up_estimated.dot(up_true)));
+  };
+  std::vector<Rigid3d> keyframe_poses;
+  std::vector<Rigid3d> object_poses;
+  PoseGraphSolveSummary summary;
+  ASSERT_TRUE(
+      OptimizeKeyframeGraph(
+          keyframes, 4, {}, {table}, &keyframe_poses, &object_poses, &summary)
+          .ok());
+  for (int k = 1; k < 4; ++k) {
+    EXPECT_LT(tilt_error(keyframe_poses, k), 0.005) << k;
+  }
+  GraphObject without_axis = table;
+  without_axis.measured_axes.clear();
+  ASSERT_FALSE(without_axis.HasAxis());
+  ASSERT_TRUE(OptimizeKeyframeGraph(keyframes,
+                                    4,
+                                    {},
+                                    {without_axis},
+                                    &keyframe_poses,
+                                    &object_poses,
+                                    &summary)
+                  .ok());
+  EXPECT_GT(tilt_error(keyframe_poses, 3), 0.1);
+}
+
+// A step outside the window whose keyframes shared points is the window's
+// estimate of it, with the points' information added to the motion's:
+// sigma_r = 2 angle / sqrt(m), sigma_t = 2 depth max(angle, depth_relative)
+// / sqrt(m). Too few points, no point noise, or inside the window: as before.
+TEST(KeyframeGraph, AStepThePointsSawIsTheWindowsEstimateWithTheirInformation) {
+  KeyframeList keyframes = KinkedKeyframes(6, 3);
+  const Rigid3d window_step =
+      Normalized(PathPose(2).Inverse() * kKink * PathPose(3));
+  keyframes[3]->window_step = window_step;
+  keyframes[3]->window_step_points = 25;
+  keyframes[3]->window_step_depth = 3.0;
+  keyframes[4]->window_step = window_step;
+  keyframes[4]->window_step_points = kMinStepPoints - 1;
+  keyframes[4]->window_step_depth = 3.0;
+  PointStepNoise noise;
+  noise.angle = 0.002;
+  noise.depth_relative = 0.01;
+  const PoseGraph graph = MakeKeyframeGraph(keyframes, 5, {}, {}, noise);
+  ASSERT_EQ(graph.edges.size(), 5u);
+  const PoseGraphEdge& step3 = graph.edges[2];
+  EXPECT_LT(Distance(step3.T_ab, window_step), 1e-12);
+  const double sigma_r = 2.0 * 0.002 / 5.0;
+  const double sigma_t = 2.0 * 3.0 * 0.01 / 5.0;
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(step3.information(i, i), 1e4 + 1.0 / (sigma_t * sigma_t), 1e-6);
+    EXPECT_NEAR(
+        step3.information(3 + i, 3 + i), 1e4 + 1.0 / (sigma_r * sigma_r), 1e-6);
+  }
+  const Matrix6d diagonal = step3.information.diagonal().asDiagonal();
+  EXPECT_EQ((step3.information - diagonal).norm(), 0.0);
+  // Too few points: the measured motion.
+  const PoseGraphEdge& step4 = graph.edges[3];
+  EXPECT_LT(Distance(step4.T_ab, PathPose(3).Inverse() * PathPose(4)), 1e-12);
+  EXPECT_NEAR(step4.information(3, 3), 1e4, 1e-6);
+  // Without point noise, the measured motion.
+  const PoseGraph without = MakeKeyframeGraph(keyframes, 5, {}, {});
+  EXPECT_LT(
+      Distance(without.edges[2].T_ab, PathPose(2).Inverse() * PathPose(3)),
+      1e-12);
+  EXPECT_NEAR(without.edges[2].information(3, 3), 1e4, 1e-6);
+  // Inside the window: the estimates' step, the motion's information.
+  const PoseGraph inside = MakeKeyframeGraph(keyframes, 0, {}, {}, noise);
+  EXPECT_LT(Distance(inside.edges[2].T_ab, window_step), 1e-12);
+  EXPECT_NEAR(inside.edges[2].information(3, 3), 1e4, 1e-6);
+}
+
+// Ten keyframes whose motion measured the last four steps with a yaw bias
+// of 0.05 rad each; a loop from 0 to 9 says where 9 truly is. Where the
+// first five steps were seen by points, the loop's correction goes into
+// the unseen steps and keyframes 0-5 stay where the window put them (the
+// truth); with the motion alone it is spread over all nine steps.
+TEST(KeyframeGraph, ALoopBendsTheStepsThePointsDidNotSee) {
+  const Eigen::Quaterniond bias(
+      Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ()));
+  KeyframeList keyframes;
+  Rigid3d chain;
+  for (int k = 0; k < 10; ++k) {
+    auto kf = std::make_unique<KeyframeState>();
+    kf->id = k;
+    if (k > 0) {
+      const Rigid3d step = PathPose(k - 1).Inverse() * PathPose(k);
+      chain = chain * (k > 5 ? Rigid3d(step.q * bias, step.t) : step);
+      kf->motion_variance_t = 0.01 * 0.01;
+      kf->motion_variance_r = 0.01 * 0.01;
+      kf->motion_from = k - 1;
+      if (k <= 5) {
+        kf->window_step = step;
+        kf->window_step_points = 30;
+        kf->window_step_depth = 3.0;
+      }
+    }
+    kf->T_wc_chain = Normalized(chain);
+    WritePose(kf->T_wc_chain, kf->q, kf->t);
+    keyframes.push_back(std::move(kf));
+  }
+  LoopConstraint loop;
+  loop.earlier = 0;
+  loop.later = 9;
+  loop.T = PathPose(9);
+  loop.sigma_t = 0.001;
+  loop.sigma_r = 0.001;
+  PointStepNoise noise;
+  noise.angle = 0.002;
+  noise.depth_relative = 0.01;
+  std::vector<Rigid3d> keyframe_poses;
+  std::vector<Rigid3d> object_poses;
+  PoseGraphSolveSummary summary;
+  ASSERT_TRUE(OptimizeKeyframeGraph(keyframes,
+                                    10,
+                                    {loop},
+                                    {},
+                                    &keyframe_poses,
+                                    &object_poses,
+                                    &summary,
+                                    noise)
+                  .ok());
+  for (int k = 0; k <= 5; ++k) {
+    EXPECT_LT(Distance(keyframe_poses[k], PathPose(k)), 0.01) << k;
+  }
+  ASSERT_TRUE(
+      OptimizeKeyframeGraph(
+          keyframes, 10, {loop}, {}, &keyframe_poses, &object_poses, &summary)
+          .ok());
+  EXPECT_GT(Distance(keyframe_poses[5], PathPose(5)), 0.05);
 }
 
 }  // namespace

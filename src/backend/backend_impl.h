@@ -161,8 +161,6 @@ class Backend::Impl {
   // The confirmed objects as the keyframe graph holds them (by index; the
   // others without keyframes).
   std::vector<internal::GraphObject> GraphObjects() const;
-  // What the map points say about a step of the keyframe graph.
-  internal::PointStepNoise PointStepNoise() const;
   // Each object's rigid move: with the window if only the window saw it
   // (keyframes from window_begin on), else to its optimised vertex, or by
   // the mean move of its detectors if it is not in the graph; identity for

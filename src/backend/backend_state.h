@@ -62,13 +62,6 @@ struct KeyframeState {
   // Every factor touching this keyframe while it is in the window (freed
   // when it leaves).
   std::vector<int> factors;
-  // Its step from keyframe index - 1 as the window estimated it when that
-  // keyframe left (both in one solve), the points both observed, and their
-  // median depth in that keyframe (m); the keyframe graph's measurement of
-  // the step (keyframe_graph.h). None until then.
-  std::optional<Rigid3d> window_step;
-  int window_step_points = 0;
-  double window_step_depth = 0.0;
 
   Rigid3d T_wc() const { return ReadPose(q, t); }
 };

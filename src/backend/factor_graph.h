@@ -133,8 +133,6 @@ class FactorGraph {
   // into the keyframe prior, its object edges and point observations into
   // each object's and point's own prior; under drop they just leave.
   void LeaveWindow(int k);
-  // KeyframeState::window_step of keyframe k + 1, as k leaves.
-  void RecordWindowStep(int k);
   // The factors of a point or object (`own`: its blocks) from a keyframe
   // that leaves the window, conditioned on everything else and merged with
   // `share` of their information into its own prior (*prior_factor).

@@ -74,8 +74,7 @@ ChainStep MeasuredStep(const KeyframeList& keyframes, int k, int window_begin) {
 PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
                             int window_begin,
                             const std::vector<LoopConstraint>& loops,
-                            const std::vector<GraphObject>& objects,
-                            const PointStepNoise& point_noise) {
+                            const std::vector<GraphObject>& objects) {
   PoseGraph graph;
   const int n = static_cast<int>(keyframes.size());
   for (int k = 0; k < n; ++k) {
@@ -90,25 +89,6 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
     edge.to = k;
     edge.T_ab = step.T;
     edge.information = DiagonalInformation(sigmas.t, sigmas.r);
-    const KeyframeState& kf = *keyframes[k];
-    if (k - 1 < window_begin && step.from == k - 1 && kf.window_step &&
-        point_noise.angle > 0.0 && kf.window_step_points >= kMinStepPoints) {
-      // The window's estimate of the step, with the points' information
-      // added to the motion's.
-      const double scale =
-          kPointStepSigmaScale / std::sqrt(kf.window_step_points);
-      const double sigma_r = scale * point_noise.angle;
-      const double sigma_t =
-          scale * kf.window_step_depth *
-          std::max(point_noise.angle, point_noise.depth_relative);
-      edge.T_ab = *kf.window_step;
-      if (sigma_t > 0.0) {
-        edge.information += DiagonalInformation(sigma_t, sigma_r);
-      } else {
-        edge.information.bottomRightCorner<3, 3>().diagonal().array() +=
-            1.0 / (sigma_r * sigma_r);
-      }
-    }
     graph.edges.push_back(std::move(edge));
   }
   for (const LoopConstraint& loop : loops) {
@@ -169,10 +149,8 @@ Status OptimizeKeyframeGraph(const KeyframeList& keyframes,
                              const std::vector<GraphObject>& objects,
                              std::vector<Rigid3d>* keyframe_poses,
                              std::vector<Rigid3d>* object_poses,
-                             PoseGraphSolveSummary* summary,
-                             const PointStepNoise& point_noise) {
-  PoseGraph graph =
-      MakeKeyframeGraph(keyframes, window_begin, loops, objects, point_noise);
+                             PoseGraphSolveSummary* summary) {
+  PoseGraph graph = MakeKeyframeGraph(keyframes, window_begin, loops, objects);
   // From the current estimates, not the chordal relaxation: the estimates
   // are what the window's solves made of the objects and points, and the
   // relaxation, which sees the rotations first, has only the motion's

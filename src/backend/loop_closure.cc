@@ -139,8 +139,7 @@ LoopClosureReport Backend::Impl::CloseLoop(int k,
                                                           objects,
                                                           &keyframe_poses,
                                                           &object_poses,
-                                                          &summary,
-                                                          PointStepNoise());
+                                                          &summary);
     if (status.ok()) {
       const Rigid3d before = keyframes[k]->T_wc();
       // The window moves as one: its solves made its keyframes, objects and
@@ -198,15 +197,6 @@ LoopClosureReport Backend::Impl::CloseLoop(int k,
   return report;
 }
 
-internal::PointStepNoise Backend::Impl::PointStepNoise() const {
-  internal::PointStepNoise noise;
-  if (!intrinsics_) return noise;
-  noise.angle =
-      options_.point_sigma_px / std::min(intrinsics_->fx, intrinsics_->fy);
-  noise.depth_relative = options_.point_depth_sigma_relative;
-  return noise;
-}
-
 std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
   const internal::ObjectList& objects = map_.objects();
   std::vector<internal::GraphObject> out(objects.size());
@@ -247,6 +237,16 @@ std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
     g.sigma_axis = object.type == SymmetryType::kContinuous
                        ? options_.axis_sigma
                        : sigmas.r;
+    // No axis where one is not a unit vector (an object without a measured
+    // or object-frame axis) or its noise is not a usable number.
+    auto unit = [](const Eigen::Vector3d& a) {
+      return a.allFinite() && std::abs(a.norm() - 1.0) < 1e-6;
+    };
+    const bool usable =
+        unit(g.axis_w.normalized()) && std::isfinite(g.sigma_axis) &&
+        g.sigma_axis > 0.0 &&
+        std::all_of(g.measured_axes.begin(), g.measured_axes.end(), unit);
+    if (!usable) g.measured_axes.clear();
   }
   return out;
 }

@@ -8,8 +8,6 @@
 // factors just leave. Every step here touches the leaving keyframe's
 // factors and the priors only.
 #include <algorithm>
-#include <cmath>
-#include <iterator>
 #include <utility>
 
 #include "backend/factor_graph.h"
@@ -26,47 +24,7 @@ std::vector<double*> ObjectBlocks(ObjectState& object) {
 
 }  // namespace
 
-void FactorGraph::RecordWindowStep(int k) {
-  if (k + 1 >= static_cast<int>(keyframes_.size())) return;
-  const KeyframeState& kf = *keyframes_[k];
-  KeyframeState& next = *keyframes_[k + 1];
-  auto observed_points = [this](const KeyframeState& keyframe) {
-    std::vector<int> points;
-    for (int f : keyframe.factors) {
-      const FactorRecord& record = problem_.factor(f);
-      if (record.retired || record.marginalized || record.summary) continue;
-      if (record.point >= 0) points.push_back(record.point);
-    }
-    std::sort(points.begin(), points.end());
-    points.erase(std::unique(points.begin(), points.end()), points.end());
-    return points;
-  };
-  const std::vector<int> own = observed_points(kf);
-  const std::vector<int> theirs = observed_points(next);
-  std::vector<int> shared;
-  std::set_intersection(own.begin(),
-                        own.end(),
-                        theirs.begin(),
-                        theirs.end(),
-                        std::back_inserter(shared));
-  const Rigid3d T_cw = kf.T_wc().Inverse();
-  std::vector<double> depths;
-  for (int i : shared) {
-    const double z =
-        (T_cw * Eigen::Map<const Eigen::Vector3d>(points_[i]->p)).z();
-    if (z > 0.0 && std::isfinite(z)) depths.push_back(z);
-  }
-  next.window_step = Normalized(kf.T_wc().Inverse() * next.T_wc());
-  next.window_step_points = static_cast<int>(depths.size());
-  if (!depths.empty()) {
-    std::nth_element(
-        depths.begin(), depths.begin() + depths.size() / 2, depths.end());
-    next.window_step_depth = depths[depths.size() / 2];
-  }
-}
-
 void FactorGraph::LeaveWindow(int k) {
-  RecordWindowStep(k);
   KeyframeState& kf = *keyframes_[k];
   const bool marginalize = options_.window_policy == WindowPolicy::kMarginalize;
   // Under a marginal chain prior a point observation informs both the

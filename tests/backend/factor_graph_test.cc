@@ -5,7 +5,6 @@
 #include "backend/factor_graph.h"
 
 #include <memory>
-#include <utility>
 #include <vector>
 
 #include <ceres/manifold.h>
@@ -172,63 +171,6 @@ TEST_F(FactorGraphTest, LeavingFreesWhatOnlyTheBatchNeedsUnlessKept) {
       EXPECT_EQ(outcome.prior_size, 0);
     }
   }
-}
-
-// A keyframe leaving the window records its next keyframe's step as the
-// window estimated it, the points both observed and their median depth in
-// the leaving keyframe (the keyframe graph's measurement of the step).
-TEST_F(FactorGraphTest, ALeavingKeyframeRecordsTheStepAndTheSharedPoints) {
-  Build(BackendOptions(), 6, {});
-  PinholeIntrinsics intrinsics;
-  intrinsics.fx = intrinsics.fy = 500.0;
-  intrinsics.cx = 320.0;
-  intrinsics.cy = 240.0;
-  // Points 0-4 seen from keyframes 0 and 1 (depths 2-6), point 5 from 1
-  // only, points 6 and 7 from 1 and 2 (depths 3 and 5).
-  const std::vector<std::pair<Eigen::Vector3d, std::vector<int>>> seen = {
-      {{0.5, 0.1, 2.0}, {0, 1}},
-      {{0.6, -0.2, 3.0}, {0, 1}},
-      {{0.4, 0.3, 4.0}, {0, 1}},
-      {{0.7, 0.0, 5.0}, {0, 1}},
-      {{0.5, -0.1, 6.0}, {0, 1}},
-      {{1.0, 0.2, 4.0}, {1}},
-      {{1.5, 0.1, 3.0}, {1, 2}},
-      {{1.6, -0.3, 5.0}, {1, 2}}};
-  for (const auto& [p_w, keyframes] : seen) {
-    auto point = std::make_unique<PointState>();
-    Eigen::Map<Eigen::Vector3d>(point->p) = p_w;
-    const int index = static_cast<int>(points_.size());
-    points_.push_back(std::move(point));
-    for (int k : keyframes) {
-      const Eigen::Vector3d p_c = Truth(k).Inverse() * p_w;
-      const Eigen::Vector2d uv(
-          intrinsics.fx * p_c.x() / p_c.z() + intrinsics.cx,
-          intrinsics.fy * p_c.y() / p_c.z() + intrinsics.cy);
-      FactorRecord observation;
-      observation.cost.reset(ReprojectionFactor::Create(
-          intrinsics, uv, Eigen::Matrix2d::Identity()));
-      observation.blocks = {
-          keyframes_[k]->q, keyframes_[k]->t, points_[index]->p};
-      observation.keyframe = k;
-      observation.point = index;
-      graph_->Add(std::move(observation));
-    }
-  }
-  SolveOutcome outcome;
-  graph_->SolveWindow(3, &outcome);
-  EXPECT_FALSE(keyframes_[0]->window_step.has_value());
-  for (int k = 1; k <= 3; ++k) {
-    ASSERT_TRUE(keyframes_[k]->window_step.has_value()) << k;
-    const Rigid3d expected = Truth(k - 1).Inverse() * Truth(k);
-    EXPECT_LT((keyframes_[k]->window_step->t - expected.t).norm(), 1e-6);
-    EXPECT_LT(keyframes_[k]->window_step->q.angularDistance(expected.q), 1e-6);
-  }
-  EXPECT_EQ(keyframes_[1]->window_step_points, 5);
-  EXPECT_NEAR(keyframes_[1]->window_step_depth, 4.0, 1e-6);
-  EXPECT_EQ(keyframes_[2]->window_step_points, 2);
-  EXPECT_NEAR(keyframes_[2]->window_step_depth, 5.0, 1e-6);
-  EXPECT_EQ(keyframes_[3]->window_step_points, 0);
-  EXPECT_FALSE(keyframes_[4]->window_step.has_value());
 }
 
 // A point seen from keyframes 0-2 gets its prior when they leave; a loop

@@ -1,9 +1,8 @@
 // The keyframe graph a loop closure optimises (src/backend/keyframe_graph.h):
 // outside the window its chain is the camera motion measured, inside the
 // window the estimate, so that a kink the window's solves left in the past
-// is spread by a loop instead of kept as a measurement; a step the map
-// points saw is the window's estimate with their information, and a
-// symmetric object's detections level the keyframes by its axis.
+// is spread by a loop instead of kept as a measurement, and a symmetric
+// object's detections level the keyframes by its axis.
 #include "backend/keyframe_graph.h"
 
 #include <algorithm>
@@ -239,112 +238,6 @@ TEST(KeyframeGraph, ASymmetricObjectsAxisLevelsTheKeyframesThatSawIt) {
                                     &summary)
                   .ok());
   EXPECT_GT(tilt_error(keyframe_poses, 3), 0.1);
-}
-
-// A step outside the window whose keyframes shared points is the window's
-// estimate of it, with the points' information added to the motion's:
-// sigma_r = 2 angle / sqrt(m), sigma_t = 2 depth max(angle, depth_relative)
-// / sqrt(m). Too few points, no point noise, or inside the window: as before.
-TEST(KeyframeGraph, AStepThePointsSawIsTheWindowsEstimateWithTheirInformation) {
-  KeyframeList keyframes = KinkedKeyframes(6, 3);
-  const Rigid3d window_step =
-      Normalized(PathPose(2).Inverse() * kKink * PathPose(3));
-  keyframes[3]->window_step = window_step;
-  keyframes[3]->window_step_points = 25;
-  keyframes[3]->window_step_depth = 3.0;
-  keyframes[4]->window_step = window_step;
-  keyframes[4]->window_step_points = kMinStepPoints - 1;
-  keyframes[4]->window_step_depth = 3.0;
-  PointStepNoise noise;
-  noise.angle = 0.002;
-  noise.depth_relative = 0.01;
-  const PoseGraph graph = MakeKeyframeGraph(keyframes, 5, {}, {}, noise);
-  ASSERT_EQ(graph.edges.size(), 5u);
-  const PoseGraphEdge& step3 = graph.edges[2];
-  EXPECT_LT(Distance(step3.T_ab, window_step), 1e-12);
-  const double sigma_r = 2.0 * 0.002 / 5.0;
-  const double sigma_t = 2.0 * 3.0 * 0.01 / 5.0;
-  for (int i = 0; i < 3; ++i) {
-    EXPECT_NEAR(step3.information(i, i), 1e4 + 1.0 / (sigma_t * sigma_t), 1e-6);
-    EXPECT_NEAR(
-        step3.information(3 + i, 3 + i), 1e4 + 1.0 / (sigma_r * sigma_r), 1e-6);
-  }
-  const Matrix6d diagonal = step3.information.diagonal().asDiagonal();
-  EXPECT_EQ((step3.information - diagonal).norm(), 0.0);
-  // Too few points: the measured motion.
-  const PoseGraphEdge& step4 = graph.edges[3];
-  EXPECT_LT(Distance(step4.T_ab, PathPose(3).Inverse() * PathPose(4)), 1e-12);
-  EXPECT_NEAR(step4.information(3, 3), 1e4, 1e-6);
-  // Without point noise, the measured motion.
-  const PoseGraph without = MakeKeyframeGraph(keyframes, 5, {}, {});
-  EXPECT_LT(
-      Distance(without.edges[2].T_ab, PathPose(2).Inverse() * PathPose(3)),
-      1e-12);
-  EXPECT_NEAR(without.edges[2].information(3, 3), 1e4, 1e-6);
-  // Inside the window: the estimates' step, the motion's information.
-  const PoseGraph inside = MakeKeyframeGraph(keyframes, 0, {}, {}, noise);
-  EXPECT_LT(Distance(inside.edges[2].T_ab, window_step), 1e-12);
-  EXPECT_NEAR(inside.edges[2].information(3, 3), 1e4, 1e-6);
-}
-
-// Ten keyframes whose motion measured the last four steps with a yaw bias
-// of 0.05 rad each; a loop from 0 to 9 says where 9 truly is. Where the
-// first five steps were seen by points, the loop's correction goes into
-// the unseen steps and keyframes 0-5 stay where the window put them (the
-// truth); with the motion alone it is spread over all nine steps.
-TEST(KeyframeGraph, ALoopBendsTheStepsThePointsDidNotSee) {
-  const Eigen::Quaterniond bias(
-      Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ()));
-  KeyframeList keyframes;
-  Rigid3d chain;
-  for (int k = 0; k < 10; ++k) {
-    auto kf = std::make_unique<KeyframeState>();
-    kf->id = k;
-    if (k > 0) {
-      const Rigid3d step = PathPose(k - 1).Inverse() * PathPose(k);
-      chain = chain * (k > 5 ? Rigid3d(step.q * bias, step.t) : step);
-      kf->motion_variance_t = 0.01 * 0.01;
-      kf->motion_variance_r = 0.01 * 0.01;
-      kf->motion_from = k - 1;
-      if (k <= 5) {
-        kf->window_step = step;
-        kf->window_step_points = 30;
-        kf->window_step_depth = 3.0;
-      }
-    }
-    kf->T_wc_chain = Normalized(chain);
-    WritePose(kf->T_wc_chain, kf->q, kf->t);
-    keyframes.push_back(std::move(kf));
-  }
-  LoopConstraint loop;
-  loop.earlier = 0;
-  loop.later = 9;
-  loop.T = PathPose(9);
-  loop.sigma_t = 0.001;
-  loop.sigma_r = 0.001;
-  PointStepNoise noise;
-  noise.angle = 0.002;
-  noise.depth_relative = 0.01;
-  std::vector<Rigid3d> keyframe_poses;
-  std::vector<Rigid3d> object_poses;
-  PoseGraphSolveSummary summary;
-  ASSERT_TRUE(OptimizeKeyframeGraph(keyframes,
-                                    10,
-                                    {loop},
-                                    {},
-                                    &keyframe_poses,
-                                    &object_poses,
-                                    &summary,
-                                    noise)
-                  .ok());
-  for (int k = 0; k <= 5; ++k) {
-    EXPECT_LT(Distance(keyframe_poses[k], PathPose(k)), 0.01) << k;
-  }
-  ASSERT_TRUE(
-      OptimizeKeyframeGraph(
-          keyframes, 10, {loop}, {}, &keyframe_poses, &object_poses, &summary)
-          .ok());
-  EXPECT_GT(Distance(keyframe_poses[5], PathPose(5)), 0.05);
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <utility>
 
+#include "symba/geometry/swing_twist.h"
+
 namespace symba::internal {
 
 StepSigmas StepSigmasOf(const KeyframeState& kf) {
@@ -41,7 +43,7 @@ Rigid3d AxisEdgeMeasurement(const Rigid3d& T_wc,
   const Eigen::Quaterniond q_co = (T_wc.q.inverse() * T_wo.q).normalized();
   const Eigen::Vector3d predicted = T_wc.q.inverse() * axis_w.normalized();
   const Eigen::Quaterniond turn =
-      Eigen::Quaterniond::FromTwoVectors(predicted, axis_c.normalized());
+      MinimalRotation(predicted, Eigen::Vector3d(axis_c.normalized()));
   return Rigid3d((turn * q_co).normalized(), t_co_measured);
 }
 
@@ -113,6 +115,12 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
     information.bottomRightCorner<3, 3>().diagonal().setConstant(
         object.rotation ? weight / (object.sigma_r * object.sigma_r)
                         : kSymmetricRotationInformation);
+    const Rigid3d T_wo = Normalized(object.T_wo);
+    const Eigen::Matrix3d axis_information =
+        object.HasAxis()
+            ? AxisInformation(T_wo.q.inverse() * object.axis_w,
+                              weight / (object.sigma_axis * object.sigma_axis))
+            : Eigen::Matrix3d::Zero();
     for (int e = 0; e < edges; ++e) {
       // Spread over the detections, the first and the last among them.
       const int i = edges == 1 ? count - 1
@@ -127,15 +135,12 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
                       : Normalized(object.measured[i]);
       edge.information = information;
       if (object.HasAxis()) {
-        const Rigid3d T_wo = Normalized(object.T_wo);
         edge.T_ab = Normalized(AxisEdgeMeasurement(graph.poses.at(k),
                                                    T_wo,
                                                    object.axis_w,
                                                    object.measured_axes[i],
                                                    edge.T_ab.t));
-        edge.information.bottomRightCorner<3, 3>() =
-            AxisInformation(T_wo.q.inverse() * object.axis_w,
-                            weight / (object.sigma_axis * object.sigma_axis));
+        edge.information.bottomRightCorner<3, 3>() = axis_information;
       }
       graph.edges.push_back(std::move(edge));
     }

@@ -17,7 +17,8 @@
 //             each object and (up to kMaxObjectEdges of) the keyframes that
 //             detected it: the detection's representative pose T_co,
 //             weighed with the class's detection noise (position; the
-//             rotation for an asymmetric object only)
+//             rotation for an asymmetric object, the axis for a symmetric
+//             one of symba)
 //
 // Outside the window the chain is what the camera motion measured, not
 // what the window's solves made of it: where the window was pulled onto
@@ -68,8 +69,9 @@ struct LoopConstraint {
 struct GraphObject {
   Rigid3d T_wo;  // a symmetric object's rotation is any of its poses
   // Asymmetric: its detections constrain its rotation. Otherwise the
-  // rotation rows get kSymmetricRotationInformation only (they keep the
-  // vertex's rotation determined).
+  // rotation rows get the axis' information (HasAxis) or
+  // kSymmetricRotationInformation only (they keep the vertex's rotation
+  // determined).
   bool rotation = false;
   std::vector<int> keyframes;  // the detecting keyframes (indices)
   // Per detecting keyframe, what it measured: the detection's
@@ -82,7 +84,8 @@ struct GraphObject {
   // axis: the world axis, per detecting keyframe the axis it measured
   // (camera frame, unit), and their noise (rad). Its edges then constrain
   // the two rotation directions off the axis (the tilt of the keyframes
-  // that saw it); the turn about the axis stays free. Empty: no axis.
+  // that saw it); the turn about the axis is held only loosely
+  // (kAxisTurnInformation). Empty: no axis.
   Eigen::Vector3d axis_w = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> measured_axes;
   double sigma_axis = 0.0;
@@ -103,12 +106,16 @@ Rigid3d AxisEdgeMeasurement(const Rigid3d& T_wc,
                             const Eigen::Vector3d& axis_w,
                             const Eigen::Vector3d& axis_c,
                             const Eigen::Vector3d& t_co_measured);
+// `axis_c` must be on `axis_w`'s side (R_wc axis_c . axis_w >= 0), as
+// GraphObjects() makes it: the least rotation onto the opposite axis is not
+// unique.
 // Its rotation information in the object's frame (the edge's error frame):
 // information (I - a_o a_o^T) + kAxisTurnInformation a_o a_o^T.
 Eigen::Matrix3d AxisInformation(const Eigen::Vector3d& a_o, double information);
 // The turn about the axis, which nothing measures, is held to the edge's
 // measurement (the estimate's relative turn when the graph is made) with a
-// sigma of 1 rad: far looser than any camera motion, and it keeps
+// sigma of 1 rad: far looser than a step of camera motion (a long
+// featureless chain can add up to as much), and it keeps
 // Levenberg-Marquardt's steps well conditioned. With 1e-6 / rad^2 (as a
 // symmetric object's rotation without an axis gets) the long scene's
 // closures took 3.5 times as many iterations (1868 against 533 over 82

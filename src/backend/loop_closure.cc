@@ -16,6 +16,7 @@
 #include "backend/keyframe_validation.h"
 #include "symba/factors/relative_pose_factor.h"
 #include "symba/geometry/pi.h"
+#include "symba/geometry/swing_twist.h"
 
 namespace symba {
 namespace {
@@ -232,19 +233,23 @@ std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
         internal::EffectiveNoise(first, edges_.AppliedNoise(object.class_name));
     g.sigma_t = sigmas.t;
     g.sigma_r = sigmas.r;
-    // The window weighs a continuous object's axis with axis_sigma, a
-    // discrete one's rotation with the detection's.
-    g.sigma_axis = object.type == SymmetryType::kContinuous
-                       ? options_.axis_sigma
-                       : sigmas.r;
+    // As the window weighs them: a continuous object's axis with
+    // axis_sigma / gamma (none for gamma = 0), a discrete one's rotation
+    // with the detection's sigma_r.
+    g.sigma_axis =
+        object.type == SymmetryType::kContinuous
+            ? (options_.gamma > 0.0 ? options_.axis_sigma / options_.gamma
+                                    : 0.0)
+            : sigmas.r;
     // No axis where one is not a unit vector (an object without a measured
-    // or object-frame axis) or its noise is not a usable number.
+    // or object-frame axis, for any of its detections) or its noise is not
+    // a usable number (an information 1 / sigma^2 finite and positive).
     auto unit = [](const Eigen::Vector3d& a) {
       return a.allFinite() && std::abs(a.norm() - 1.0) < 1e-6;
     };
     const bool usable =
-        unit(g.axis_w.normalized()) && std::isfinite(g.sigma_axis) &&
-        g.sigma_axis > 0.0 &&
+        unit(g.axis_w.normalized()) && g.sigma_axis > 0.0 &&
+        std::isfinite(1.0 / (g.sigma_axis * g.sigma_axis)) &&
         std::all_of(g.measured_axes.begin(), g.measured_axes.end(), unit);
     if (!usable) g.measured_axes.clear();
   }
@@ -296,7 +301,7 @@ std::vector<Rigid3d> Backend::Impl::ObjectMoves(
       // turn about it as its detecting keyframes did.
       const Eigen::Vector3d axis_after =
           after.q * (g.T_wo.q.inverse() * g.axis_w);
-      R = (Eigen::Quaterniond::FromTwoVectors(R * g.axis_w, axis_after) * R)
+      R = (MinimalRotation(Eigen::Vector3d(R * g.axis_w), axis_after) * R)
               .normalized();
     }
     out[o] = Rigid3d(R, after.t - R * g.T_wo.t);

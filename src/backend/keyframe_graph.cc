@@ -115,7 +115,7 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
     information.bottomRightCorner<3, 3>().diagonal().setConstant(
         object.rotation ? weight / (object.sigma_r * object.sigma_r)
                         : kSymmetricRotationInformation);
-    const Rigid3d T_wo = Normalized(object.T_wo);
+    const Rigid3d& T_wo = graph.poses.at(vertex);
     const Eigen::Matrix3d axis_information =
         object.HasAxis()
             ? AxisInformation(T_wo.q.inverse() * object.axis_w,

@@ -29,19 +29,6 @@ double AngleDeg(const Eigen::Quaterniond& q) {
          std::atan2(q.vec().norm(), std::abs(q.normalized().w()));
 }
 
-// The axis a symmetric object's detection measured (camera frame, unit,
-// turned to the object's world axis' side), as its window edge takes it.
-Eigen::Vector3d MeasuredAxis(const internal::ObjectState& object,
-                             const internal::ObjectObservation& observation,
-                             const Eigen::Quaterniond& q_wc) {
-  Eigen::Vector3d a_c =
-      observation.axis_c.norm() > 0.0
-          ? observation.axis_c.normalized()
-          : Eigen::Vector3d(observation.T_co_best.q * object.a_o.normalized());
-  if ((q_wc * a_c).dot(object.axis_w()) < 0.0) a_c = -a_c;
-  return a_c;
-}
-
 }  // namespace
 
 Status Backend::Impl::CheckLoopClosure(int k,
@@ -220,7 +207,7 @@ std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
         g.keyframes.push_back(observation.keyframe);
         g.measured.push_back(observation.T_co_best);
         if (symmetric_axis) {
-          g.measured_axes.push_back(MeasuredAxis(
+          g.measured_axes.push_back(internal::MeasuredAxis(
               object,
               observation,
               trajectory_.keyframes()[observation.keyframe]->T_wc().q));

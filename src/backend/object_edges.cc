@@ -174,6 +174,17 @@ ClassNoise ObjectEdges::AppliedNoise(const std::string& class_name) const {
   return it == applied_noise_.end() ? ClassNoise{} : it->second;
 }
 
+Eigen::Vector3d MeasuredAxis(const ObjectState& object,
+                             const ObjectObservation& observation,
+                             const Eigen::Quaterniond& q_wc) {
+  Eigen::Vector3d a_c =
+      observation.axis_c.norm() > 0.0
+          ? observation.axis_c.normalized()
+          : Eigen::Vector3d(observation.T_co_best.q * object.a_o.normalized());
+  if ((q_wc * a_c).dot(object.axis_w()) < 0.0) a_c = -a_c;
+  return a_c;
+}
+
 // The edge of one observation for the object's current type (method notes
 // Eq. 14-20): asymmetric 6 DoF on (T_wc, T_wo); discrete on (T_wc, t_wo,
 // a_w, theta_i); continuous (or a continuous view of a discrete object) on
@@ -218,12 +229,7 @@ std::unique_ptr<ceres::CostFunction> ObjectEdges::BuildEdge(
         {c.T_co.t, c.sqrt_info.topLeftCorner<3, 3>(), c.weight});
   }
   AxisMeasurement axis;
-  axis.a_c = observation.axis_c.norm() > 0.0
-                 ? observation.axis_c.normalized()
-                 : Eigen::Vector3d(observation.T_co_best.q * object->a_o);
-  if ((kf->T_wc().q * axis.a_c).dot(object->axis_w()) < 0.0) {
-    axis.a_c = -axis.a_c;
-  }
+  axis.a_c = MeasuredAxis(*object, observation, kf->T_wc().q);
   axis.sqrt_info = Eigen::Matrix2d::Identity() / options_.axis_sigma;
   axis.gamma = options_.gamma;
   std::unique_ptr<ContinuousObjectEdge> edge;

@@ -34,6 +34,15 @@ struct EdgeSigmas {
 EdgeSigmas EffectiveNoise(const ObjectObservation& observation,
                           const ClassNoise& applied);
 
+// The axis a symmetric object's detection measured, in the camera frame
+// (unit): the detection's own axis, or its representative pose's turn of the
+// object's axis a_o; turned to the side of the object's world axis, given
+// the keyframe's rotation q_wc. The continuous edge and the keyframe graph
+// take it.
+Eigen::Vector3d MeasuredAxis(const ObjectState& object,
+                             const ObjectObservation& observation,
+                             const Eigen::Quaterniond& q_wc);
+
 class ObjectEdges {
  public:
   // The containers and the graph are the backend's and must outlive this.

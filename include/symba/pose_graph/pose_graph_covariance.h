@@ -1,0 +1,48 @@
+// Marginal covariances of a 3-D pose graph's vertices (docs/pose-graphs.md
+// "Covariances"), as GTSAM's marginalCovariance gives them: the inverse of
+// the graph's Gauss-Newton information at its poses, in each vertex's
+// tangent, with the gauge held.
+#ifndef SYMBA_POSE_GRAPH_POSE_GRAPH_COVARIANCE_H_
+#define SYMBA_POSE_GRAPH_POSE_GRAPH_COVARIANCE_H_
+
+#include <cstdint>
+#include <set>
+#include <vector>
+
+#include "symba/common/status.h"
+#include "symba/factors/pose_component.h"
+#include "symba/factors/pose_graph_edge.h"
+#include "symba/pose_graph/pose_graph.h"
+
+namespace symba {
+
+struct PoseGraphCovarianceOptions {
+  PoseGraphRotationError rotation_error = PoseGraphRotationError::kRadians;
+  // Vertices whose rotation is taken as known (held at its value): a
+  // vertex that only position measurements reach (its edges' rotation
+  // information negligible) would otherwise leave the information matrix
+  // nearly singular. Their covariances are conditioned on that rotation;
+  // its rows and columns are zero.
+  std::set<int64_t> rotation_held;
+  int num_threads = 1;
+};
+
+// The marginal covariance of each of `vertices` at the graph's poses (the
+// graph is not optimised: solve it first), 6 x 6 in the order
+// [translation t_w (world frame, m); w (rad)], w the world-frame rotation
+// vector of R_w <- Exp(w) R_w; positive semi-definite. The gauge is
+// OptimizePoseGraph's (the fixed vertices, else the smallest id of each
+// connected component): its vertices' covariances are zero, the others'
+// are relative to it.
+//
+// Errors (nothing written): the graph is invalid (as for OptimizePoseGraph),
+// a requested vertex has no edge, or the information is rank deficient
+// (a vertex not determined by its edges).
+Status PoseGraphCovariances(const PoseGraph& graph,
+                            const std::vector<int64_t>& vertices,
+                            const PoseGraphCovarianceOptions& options,
+                            std::vector<Matrix6d>* covariances);
+
+}  // namespace symba
+
+#endif  // SYMBA_POSE_GRAPH_POSE_GRAPH_COVARIANCE_H_

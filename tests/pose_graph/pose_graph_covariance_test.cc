@@ -1,0 +1,130 @@
+// Marginal covariances of pose-graph vertices
+// (symba/pose_graph/pose_graph_covariance.h) against the linear propagation
+// worked out by hand for a chain whose measurements the poses reproduce:
+//
+//   vertex 0 (fixed) -> 1 at (1, 0, 0) -> 2 at (1, 1, 0), all rotations the
+//   identity, each edge measuring the pose of its end with information
+//   diag(I / s_t^2, I / s_r^2) (rotation rows in radians).
+//
+// To first order, with each vertex's error (dt, w) in the world frame
+// (t <- t + dt, R <- Exp(w) R) and each edge's noise (n_t, n_r):
+//   dt_1 = n_t1,                    w_1 = n_r1
+//   dt_2 = dt_1 + w_1 x d + n_t2,   w_2 = w_1 + n_r2,   d = t_2 - t_1
+// so Cov(t_1) = s_t^2 I, Cov(w_1) = s_r^2 I, Cov(t_1, w_1) = 0,
+//    Cov(t_2) = 2 s_t^2 I + s_r^2 Hat(d) Hat(d)^T, Cov(w_2) = 2 s_r^2 I,
+//    Cov(t_2, w_2) = -s_r^2 Hat(d)  (w x d = -Hat(d) w).
+#include "symba/pose_graph/pose_graph_covariance.h"
+
+#include <gtest/gtest.h>
+
+#include "symba/geometry/so3.h"
+
+namespace symba {
+namespace {
+
+constexpr double kSigmaT = 0.1;   // m
+constexpr double kSigmaR = 0.02;  // rad
+
+Matrix6d Information() {
+  Matrix6d information = Matrix6d::Zero();
+  information.topLeftCorner<3, 3>() =
+      Eigen::Matrix3d::Identity() / (kSigmaT * kSigmaT);
+  information.bottomRightCorner<3, 3>() =
+      Eigen::Matrix3d::Identity() / (kSigmaR * kSigmaR);
+  return information;
+}
+
+PoseGraph Chain() {
+  PoseGraph graph;
+  const Eigen::Quaterniond I = Eigen::Quaterniond::Identity();
+  graph.poses[0] = Rigid3d(I, Eigen::Vector3d::Zero());
+  graph.poses[1] = Rigid3d(I, Eigen::Vector3d(1, 0, 0));
+  graph.poses[2] = Rigid3d(I, Eigen::Vector3d(1, 1, 0));
+  graph.edges.push_back(
+      {0, 1, Rigid3d(I, Eigen::Vector3d(1, 0, 0)), Information()});
+  graph.edges.push_back(
+      {1, 2, Rigid3d(I, Eigen::Vector3d(0, 1, 0)), Information()});
+  graph.fixed.insert(0);
+  return graph;
+}
+
+void ExpectNear(const Eigen::MatrixXd& actual,
+                const Eigen::MatrixXd& expected) {
+  EXPECT_LT((actual - expected).cwiseAbs().maxCoeff(), 1e-9)
+      << "actual\n"
+      << actual << "\nexpected\n"
+      << expected;
+}
+
+TEST(PoseGraphCovariances, AChainPropagatesAsWorkedOutByHand) {
+  std::vector<Matrix6d> c;
+  ASSERT_TRUE(PoseGraphCovariances(Chain(), {1, 2}, {}, &c).ok());
+  ASSERT_EQ(c.size(), 2u);
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const double vt = kSigmaT * kSigmaT;
+  const double vr = kSigmaR * kSigmaR;
+  ExpectNear(c[0].topLeftCorner<3, 3>(), vt * I);
+  ExpectNear(c[0].bottomRightCorner<3, 3>(), vr * I);
+  ExpectNear(c[0].topRightCorner<3, 3>(), Eigen::Matrix3d::Zero());
+  const Eigen::Matrix3d D = Hat(Eigen::Vector3d(0, 1, 0));
+  ExpectNear(c[1].topLeftCorner<3, 3>(), 2 * vt * I + vr * D * D.transpose());
+  ExpectNear(c[1].bottomRightCorner<3, 3>(), 2 * vr * I);
+  ExpectNear(c[1].topRightCorner<3, 3>(), -vr * D);
+  ExpectNear(c[1].bottomLeftCorner<3, 3>(), -vr * D.transpose());
+}
+
+TEST(PoseGraphCovariances, TheGaugeIsZeroAndARequestTwiceIsAnswered) {
+  std::vector<Matrix6d> c;
+  ASSERT_TRUE(PoseGraphCovariances(Chain(), {0, 2, 2}, {}, &c).ok());
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_TRUE(c[0].isZero(0.0));
+  ExpectNear(c[1], c[2]);
+  EXPECT_GT(c[1](0, 0), 0.0);
+}
+
+TEST(PoseGraphCovariances, AHeldRotationIsKnown) {
+  // Vertex 1's rotation held: vertex 2's position no longer gets its
+  // lever arm, and vertex 2's rotation only its own edge's noise.
+  PoseGraphCovarianceOptions options;
+  options.rotation_held = {1};
+  std::vector<Matrix6d> c;
+  ASSERT_TRUE(PoseGraphCovariances(Chain(), {1, 2}, options, &c).ok());
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const double vt = kSigmaT * kSigmaT;
+  const double vr = kSigmaR * kSigmaR;
+  ExpectNear(c[0].bottomRightCorner<3, 3>(), Eigen::Matrix3d::Zero());
+  ExpectNear(c[0].topLeftCorner<3, 3>(), vt * I);
+  ExpectNear(c[1].topLeftCorner<3, 3>(), 2 * vt * I);
+  ExpectNear(c[1].bottomRightCorner<3, 3>(), vr * I);
+}
+
+TEST(PoseGraphCovariances, WithoutAFixedVertexTheSmallestIdIsTheGauge) {
+  PoseGraph graph = Chain();
+  graph.fixed.clear();
+  std::vector<Matrix6d> fixed;
+  std::vector<Matrix6d> smallest;
+  ASSERT_TRUE(PoseGraphCovariances(Chain(), {2}, {}, &fixed).ok());
+  ASSERT_TRUE(PoseGraphCovariances(graph, {2}, {}, &smallest).ok());
+  ExpectNear(smallest[0], fixed[0]);
+}
+
+TEST(PoseGraphCovariances, RefusesWhatItCannotAnswer) {
+  std::vector<Matrix6d> c = {Matrix6d::Identity()};
+  PoseGraph graph = Chain();
+  graph.poses[7] = Rigid3d();
+  Status s = PoseGraphCovariances(graph, {7}, {}, &c);
+  EXPECT_EQ(s.message(), "pose graph covariance: vertex 7 has no edge");
+  graph.edges[1].information(0, 0) = -1.0;
+  s = PoseGraphCovariances(graph, {1}, {}, &c);
+  EXPECT_NE(s.message().find("pose graph: edge 1 (1 -> 2)"), std::string::npos)
+      << s.message();
+  PoseGraphCovarianceOptions options;
+  options.num_threads = 0;
+  s = PoseGraphCovariances(Chain(), {1}, options, &c);
+  EXPECT_EQ(s.message(), "pose graph covariance: num_threads = 0 is below 1");
+  ASSERT_EQ(c.size(), 1u);  // untouched
+  EXPECT_TRUE(c[0].isIdentity(0.0));
+}
+
+}  // namespace
+}  // namespace symba

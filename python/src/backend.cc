@@ -75,8 +75,7 @@ py::dict CovarianceToPython(const MapObjectCovariance& c) {
     variances.append(v ? py::object(py::float_(*v)) : py::none());
   }
   out["angle_variances"] = variances;
-  out["source"] =
-      c.source == MapObjectCovariance::Source::kSolve ? "solve" : "prior";
+  out["source"] = CovarianceSourceName(c.source);
   return out;
 }
 

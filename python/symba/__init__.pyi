@@ -227,7 +227,8 @@ class MapObject:
 
 # Backend.object_covariances(): position (3, 3) m^2; rotation (3, 3) rad^2
 # (asymmetric) or None; axis (3, 3) (symmetric) or None; angle_variances
-# rad^2 per discrete angle (None where unknown); source "solve" or "prior".
+# rad^2 per discrete angle (None where unknown); source "keyframe_graph",
+# "solve" or "prior".
 ObjectCovariance = dict[str, Any]
 
 class Assignment:

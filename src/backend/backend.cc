@@ -73,7 +73,30 @@ std::vector<ClassNoiseEstimate> Backend::Impl::Noise() const {
 
 Status Backend::Impl::ObjectCovariances(
     std::vector<MapObjectCovariance>* covariances) {
-  return internal::ObjectCovariances(map_.objects(), &graph_, covariances);
+  std::vector<MapObjectCovariance> reports;
+  Status status =
+      internal::ObjectCovariances(map_.objects(), &graph_, &reports);
+  if (!status.ok()) return status;
+  // A solve that held the past as known left the cameras' uncertainty
+  // since the first keyframe out; the keyframe graph has it. A run from a
+  // loaded map keeps the solve's (its objects' priors are not in the
+  // graph).
+  if (graph_.LastSolveHeldThePast() && !map_loaded_) {
+    const internal::KeyframeList& keyframes = trajectory_.keyframes();
+    const int window_begin =
+        static_cast<int>(keyframes.size()) - options_.window_size;
+    const std::vector<internal::GraphObject> objects = GraphObjects();
+    const PoseGraph graph =
+        internal::MakeKeyframeGraph(keyframes, window_begin, loops_, objects);
+    status = internal::InWorldFrame(graph,
+                                    static_cast<int>(keyframes.size()),
+                                    objects,
+                                    map_.objects(),
+                                    &reports);
+    if (!status.ok()) return status;
+  }
+  *covariances = std::move(reports);
+  return Status::Ok();
 }
 
 // ---------------------------------------------------------------------------

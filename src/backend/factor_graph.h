@@ -106,6 +106,12 @@ class FactorGraph {
   // level). Nothing before the first solve.
   bool SolveCovariances(const std::vector<std::vector<const double*>>& sets,
                         std::vector<WindowProblem::BlockCovariance>* out);
+  // Whether the last solve was a window solve that held keyframes as known
+  // (they had left its window, or under drop its oldest keyframe was the
+  // gauge): its covariances are then conditioned on them.
+  bool LastSolveHeldThePast() const {
+    return last_solve_.any && !last_solve_.batch && last_solve_.first > 0;
+  }
 
   // Every factor in the map, everything free but the first keyframe.
   // Fails without keep_history once keyframes have left the window.

@@ -2,12 +2,17 @@
 #include "backend/object_covariances.h"
 
 #include <algorithm>
+#include <map>
 #include <optional>
+#include <set>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 
 #include "symba/factors/marginal_prior_factor.h"
+#include "symba/geometry/so3.h"
 #include "symba/geometry/tangent_basis.h"
+#include "symba/pose_graph/pose_graph_covariance.h"
 
 namespace symba::internal {
 namespace {
@@ -131,6 +136,60 @@ Status ObjectCovariances(const ObjectList& objects,
                     FromPrior(object, *graph, &report);
     if (ok) covariances->push_back(std::move(report));
   }
+  return Status::Ok();
+}
+
+Status InWorldFrame(const PoseGraph& graph,
+                    int num_keyframes,
+                    const std::vector<GraphObject>& objects,
+                    const ObjectList& states,
+                    std::vector<MapObjectCovariance>* covariances) {
+  std::vector<int64_t> vertices;
+  std::vector<int> vertex_object;
+  PoseGraphCovarianceOptions options;
+  for (size_t o = 0; o < objects.size(); ++o) {
+    if (objects[o].keyframes.empty()) continue;
+    const int64_t vertex = num_keyframes + static_cast<int64_t>(o);
+    vertices.push_back(vertex);
+    vertex_object.push_back(static_cast<int>(o));
+    // Only positions measured: its rotation is no parameter of the graph.
+    if (!objects[o].rotation && !objects[o].HasAxis()) {
+      options.rotation_held.insert(vertex);
+    }
+  }
+  std::vector<Matrix6d> marginals;
+  const Status status =
+      PoseGraphCovariances(graph, vertices, options, &marginals);
+  if (!status.ok()) return status;
+
+  std::map<ObjectId, MapObjectCovariance> reports;
+  for (MapObjectCovariance& report : *covariances) {
+    reports.emplace(report.id, std::move(report));
+  }
+  for (size_t v = 0; v < vertices.size(); ++v) {
+    const GraphObject& g = objects[vertex_object[v]];
+    const ObjectState& object = *states[vertex_object[v]];
+    MapObjectCovariance& report = reports[object.id];
+    if (report.angle_variances.size() != object.thetas.size()) {
+      report.angle_variances.assign(object.thetas.size(), std::nullopt);
+    }
+    report.id = object.id;
+    report.source = MapObjectCovariance::Source::kKeyframeGraph;
+    report.position = marginals[v].topLeftCorner<3, 3>();
+    const Eigen::Matrix3d rotation = marginals[v].bottomRightCorner<3, 3>();
+    if (g.rotation) {
+      report.rotation = rotation;
+    } else if (g.HasAxis()) {
+      const Eigen::Matrix3d A = Hat(Eigen::Vector3d(object.axis_w()));
+      report.axis = A * rotation * A.transpose();
+    }
+  }
+  std::vector<MapObjectCovariance> out;
+  for (const auto& object : states) {
+    const auto found = reports.find(object->id);
+    if (found != reports.end()) out.push_back(std::move(found->second));
+  }
+  *covariances = std::move(out);
   return Status::Ok();
 }
 

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "backend/factor_graph.h"
+#include "backend/keyframe_graph.h"
 #include "symba/backend/object_covariance.h"
 #include "symba/common/status.h"
 
@@ -28,6 +29,24 @@ namespace symba::internal {
 Status ObjectCovariances(const ObjectList& objects,
                          FactorGraph* graph,
                          std::vector<MapObjectCovariance>* covariances);
+
+// The same in the world frame, where the last solve held keyframes that
+// left its window as known (docs/backend.md "Covariances"): an object that
+// is a vertex of `graph` (MakeKeyframeGraph of `num_keyframes` keyframes
+// and `objects`, keyframe 0 the gauge) gets that vertex's marginal
+// covariance as its position, an asymmetric object (GraphObject::rotation)
+// as its rotation, a symmetric one whose edges measure its axis
+// (GraphObject::HasAxis) as its axis: axis = Hat(a_w) C_w Hat(a_w)^T for
+// the world rotation vector's covariance C_w. Angle variances stay the
+// solve's or the prior's. `covariances` (ObjectCovariances' reports) are
+// replaced in the order of `states` by one report per confirmed object
+// that either covers. Fails (nothing changed) where the graph's
+// information is rank deficient.
+Status InWorldFrame(const PoseGraph& graph,
+                    int num_keyframes,
+                    const std::vector<GraphObject>& objects,
+                    const ObjectList& states,
+                    std::vector<MapObjectCovariance>* covariances);
 
 }  // namespace symba::internal
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "backend/backend_impl.h"
+#include "backend/object_covariances.h"
 
 namespace symba {
 namespace {
@@ -115,8 +116,13 @@ Status ValidateSavedMap(const SavedMap& map) {
 Status Backend::Impl::SaveMap(SavedMap* map) {
   SavedMap saved;
   saved.objects = Objects();
+  // The solve's covariances, not the world frame's (ObjectCovariances):
+  // loaded, each becomes an object's prior of its own, and the cameras'
+  // uncertainty that the world frame's adds is common to the map's objects
+  // (it moves them together); as independent priors it would let them move
+  // apart (docs/map-format.md).
   std::vector<MapObjectCovariance> covariances;
-  if (ObjectCovariances(&covariances).ok()) {
+  if (internal::ObjectCovariances(map_.objects(), &graph_, &covariances).ok()) {
     for (MapObjectCovariance& c : covariances) {
       for (MapObjectEstimate& o : saved.objects) {
         if (o.id == c.id) o.covariance = std::move(c);

@@ -64,9 +64,7 @@ void Covariance(const MapObjectCovariance& c, JsonWriter* json) {
     }
     json->EndArray();
   }
-  json->Member(
-      "covariance_source",
-      c.source == MapObjectCovariance::Source::kSolve ? "solve" : "prior");
+  json->Member("covariance_source", CovarianceSourceName(c.source));
 }
 
 void WriteObjectRecordImpl(const MapObjectEstimate& o, JsonWriter* json) {
@@ -295,13 +293,12 @@ Status ReadCovariance(const JsonTreeReader& r,
     std::string_view name;
     status = r.String(source, where.Member("covariance_source"), &name);
     if (!status.ok()) return status;
-    if (name != "solve" && name != "prior") {
-      return r.Fail(
-          where.Member("covariance_source"),
-          "expected \"solve\" or \"prior\", got " + QuoteForMessage(name));
+    if (!CovarianceSourceFromName(name, &c.source)) {
+      return r.Fail(where.Member("covariance_source"),
+                    "expected \"solve\", \"prior\" or \"keyframe_graph\", "
+                    "got " +
+                        QuoteForMessage(name));
     }
-    c.source = name == "solve" ? MapObjectCovariance::Source::kSolve
-                               : MapObjectCovariance::Source::kPrior;
   }
   const bool any = c.rotation || c.axis || variances != 0 || source != 0;
   if (any && !position) {

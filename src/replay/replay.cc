@@ -28,7 +28,11 @@ namespace {
 // covariance Ceres cannot compute leaves them all out, with the reason.
 void AttachCovariances(Backend* backend, ReplayResult* replay) {
   std::vector<MapObjectCovariance> covariances;
+  const auto start = std::chrono::steady_clock::now();
   const Status status = backend->ObjectCovariances(&covariances);
+  replay->covariance_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
   if (!status.ok()) {
     replay->covariance_note = status.message();
     return;

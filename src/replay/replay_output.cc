@@ -273,7 +273,10 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
   for (const MapObjectEstimate& o : result.objects) {
     with_covariance += o.covariance ? 1 : 0;
   }
-  json.Key("covariances").BeginObject().Member("objects", with_covariance);
+  json.Key("covariances")
+      .BeginObject()
+      .Member("objects", with_covariance)
+      .Member("seconds", result.covariance_seconds);
   if (!result.covariance_note.empty()) {
     json.Member("unavailable", result.covariance_note);
   }

@@ -135,7 +135,8 @@ TEST(ObjectsJson, MalformedCovariancesAreRefusedWithTheirPath) {
        "objects[0]: a covariance without \"position_covariance\""},
       {R"("position_covariance": )" + identity +
            R"(, "covariance_source": "guess")",
-       "objects[0].covariance_source: expected \"solve\" or \"prior\""},
+       "objects[0].covariance_source: expected \"solve\", \"prior\" or "
+       "\"keyframe_graph\""},
       {R"("position_covariance": )" + identity + R"(, "axis_covariance": )" +
            identity,
        "objects[0].axis_covariance: only a symmetric object has one"},

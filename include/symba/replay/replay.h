@@ -50,7 +50,8 @@ struct ReplayResult {
   // Why no object has a covariance (Backend::ObjectCovariances failed);
   // empty when they were computed.
   std::string covariance_note;
-  std::optional<SavedMap> map;  // with ReplayOptions::save_map
+  double covariance_seconds = 0.0;  // wall time of ObjectCovariances
+  std::optional<SavedMap> map;      // with ReplayOptions::save_map
   // With ReplayOptions::relocalize: Backend::Relocalization() at the end.
   std::optional<RelocalizationReport> relocalization;
   std::vector<LoopClosureReport> loop_closures;  // Backend::LoopClosures()

@@ -116,14 +116,9 @@ Status OptimizePoseGraph(const PoseGraphSolveOptions& options,
     }
   }
 
-  // Declared before the problem, which does not own it and must not outlive
-  // it.
-  ceres::EigenQuaternionManifold quaternion_manifold;
-  ceres::Problem::Options problem_options;
-  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
-  internal::AddPoseGraphEdges(
-      options.rotation_error, &quaternion_manifold, &prepared, &problem);
+  internal::PoseGraphProblem pose_graph_problem(options.rotation_error,
+                                                &prepared);
+  ceres::Problem& problem = pose_graph_problem.problem();
 
   summary->given_cost = CostAt(states, &states, &problem);
   summary->initial_cost = summary->given_cost;

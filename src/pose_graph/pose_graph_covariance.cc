@@ -1,7 +1,9 @@
 #include "symba/pose_graph/pose_graph_covariance.h"
 
+#include <set>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <ceres/covariance.h>
 #include <ceres/manifold.h>
@@ -15,6 +17,57 @@ namespace {
 // Ceres's quaternion tangent d moves R to Exp(2 d) R (left, world frame):
 // the rotation vector is twice it.
 constexpr double kRotationPerTangent = 2.0;
+
+// A requested vertex's blocks, each null where the problem holds it.
+struct FreeBlocks {
+  const double* t = nullptr;
+  const double* q = nullptr;
+};
+
+FreeBlocks FreeBlocksOf(const Rigid3d& T, ceres::Problem* problem) {
+  FreeBlocks free;
+  if (!problem->IsParameterBlockConstant(T.t.data())) free.t = T.t.data();
+  if (!problem->IsParameterBlockConstant(T.q.coeffs().data())) {
+    free.q = T.q.coeffs().data();
+  }
+  return free;
+}
+
+// Every pair of free blocks within each vertex, once (Ceres refuses a pair
+// asked twice).
+std::vector<std::pair<const double*, const double*>> Pairs(
+    const std::vector<FreeBlocks>& vertices) {
+  std::set<std::pair<const double*, const double*>> pairs;
+  for (const FreeBlocks& v : vertices) {
+    if (v.t != nullptr) pairs.emplace(v.t, v.t);
+    if (v.q != nullptr) pairs.emplace(v.q, v.q);
+    if (v.t != nullptr && v.q != nullptr) pairs.emplace(v.t, v.q);
+  }
+  return {pairs.begin(), pairs.end()};
+}
+
+// [t; w] from the tangent blocks; zero where a block is held.
+Matrix6d VertexCovariance(const ceres::Covariance& covariance,
+                          const FreeBlocks& v) {
+  Matrix6d c = Matrix6d::Zero();
+  Eigen::Matrix<double, 3, 3, Eigen::RowMajor> block;
+  if (v.t != nullptr) {
+    covariance.GetCovarianceBlockInTangentSpace(v.t, v.t, block.data());
+    c.topLeftCorner<3, 3>() = block;
+  }
+  if (v.q != nullptr) {
+    covariance.GetCovarianceBlockInTangentSpace(v.q, v.q, block.data());
+    c.bottomRightCorner<3, 3>() =
+        kRotationPerTangent * kRotationPerTangent * block;
+  }
+  if (v.t != nullptr && v.q != nullptr) {
+    covariance.GetCovarianceBlockInTangentSpace(v.t, v.q, block.data());
+    c.topRightCorner<3, 3>() = kRotationPerTangent * block;
+    c.bottomLeftCorner<3, 3>() = c.topRightCorner<3, 3>().transpose();
+  }
+  // Exactly symmetric (Ceres's round-off is not).
+  return 0.5 * (c + c.transpose());
+}
 
 }  // namespace
 
@@ -36,12 +89,9 @@ Status PoseGraphCovariances(const PoseGraph& graph,
     }
   }
 
-  ceres::EigenQuaternionManifold quaternion_manifold;
-  ceres::Problem::Options problem_options;
-  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
-  internal::AddPoseGraphEdges(
-      options.rotation_error, &quaternion_manifold, &prepared, &problem);
+  internal::PoseGraphProblem pose_graph_problem(options.rotation_error,
+                                                &prepared);
+  ceres::Problem& problem = pose_graph_problem.problem();
   for (const int64_t id : options.rotation_held) {
     const auto found = prepared.index_of.find(id);
     if (found == prepared.index_of.end()) continue;
@@ -49,20 +99,14 @@ Status PoseGraphCovariances(const PoseGraph& graph,
         prepared.states[found->second].q.coeffs().data());
   }
 
-  // The free blocks of each requested vertex, and every pair among them
-  // (once: Ceres refuses a pair asked twice).
-  std::vector<std::pair<const double*, const double*>> pairs;
-  const std::set<int64_t> distinct(vertices.begin(), vertices.end());
-  for (const int64_t id : distinct) {
-    const Rigid3d& T = prepared.states[prepared.index_of.at(id)];
-    const double* t = T.t.data();
-    const double* q = T.q.coeffs().data();
-    const bool t_free = !problem.IsParameterBlockConstant(t);
-    const bool q_free = !problem.IsParameterBlockConstant(q);
-    if (t_free) pairs.emplace_back(t, t);
-    if (q_free) pairs.emplace_back(q, q);
-    if (t_free && q_free) pairs.emplace_back(t, q);
+  std::vector<FreeBlocks> free;
+  free.reserve(vertices.size());
+  for (const int64_t id : vertices) {
+    free.push_back(
+        FreeBlocksOf(prepared.states[prepared.index_of.at(id)], &problem));
   }
+  const std::vector<std::pair<const double*, const double*>> pairs =
+      Pairs(free);
   ceres::Covariance::Options covariance_options;
   covariance_options.num_threads = options.num_threads;
   ceres::Covariance covariance(covariance_options);
@@ -71,33 +115,10 @@ Status PoseGraphCovariances(const PoseGraph& graph,
         "pose graph covariance: the information is rank deficient (a vertex "
         "is not determined by its edges)");
   }
-
   std::vector<Matrix6d> out;
-  out.reserve(vertices.size());
-  for (const int64_t id : vertices) {
-    const Rigid3d& T = prepared.states[prepared.index_of.at(id)];
-    const double* t = T.t.data();
-    const double* q = T.q.coeffs().data();
-    const bool t_free = !problem.IsParameterBlockConstant(t);
-    const bool q_free = !problem.IsParameterBlockConstant(q);
-    Matrix6d c = Matrix6d::Zero();
-    Eigen::Matrix<double, 3, 3, Eigen::RowMajor> block;
-    if (t_free) {
-      covariance.GetCovarianceBlockInTangentSpace(t, t, block.data());
-      c.topLeftCorner<3, 3>() = block;
-    }
-    if (q_free) {
-      covariance.GetCovarianceBlockInTangentSpace(q, q, block.data());
-      c.bottomRightCorner<3, 3>() =
-          kRotationPerTangent * kRotationPerTangent * block;
-    }
-    if (t_free && q_free) {
-      covariance.GetCovarianceBlockInTangentSpace(t, q, block.data());
-      c.topRightCorner<3, 3>() = kRotationPerTangent * block;
-      c.bottomLeftCorner<3, 3>() = c.topRightCorner<3, 3>().transpose();
-    }
-    out.push_back(0.5 * (c + c.transpose()));
-  }
+  out.reserve(free.size());
+  for (const FreeBlocks& v : free)
+    out.push_back(VertexCovariance(covariance, v));
   *covariances = std::move(out);
   return Status::Ok();
 }

@@ -150,14 +150,23 @@ Status PreparePoseGraph(const PoseGraph& graph, PreparedPoseGraph* prepared) {
   return Status::Ok();
 }
 
-void AddPoseGraphEdges(PoseGraphRotationError rotation_error,
-                       ceres::Manifold* quaternion_manifold,
-                       PreparedPoseGraph* prepared,
-                       ceres::Problem* problem) {
+namespace {
+
+ceres::Problem::Options NotOwningManifolds() {
+  ceres::Problem::Options options;
+  options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  return options;
+}
+
+}  // namespace
+
+PoseGraphProblem::PoseGraphProblem(PoseGraphRotationError rotation_error,
+                                   PreparedPoseGraph* prepared)
+    : problem_(NotOwningManifolds()) {
   for (const PreparedPoseEdge& p : prepared->edges) {
     Rigid3d& T_wa = prepared->states[p.a];
     Rigid3d& T_wb = prepared->states[p.b];
-    problem->AddResidualBlock(
+    problem_.AddResidualBlock(
         PoseGraphEdgeFactor::Create(p.T_ab, p.sqrt_info, rotation_error),
         nullptr,
         T_wa.q.coeffs().data(),
@@ -167,10 +176,10 @@ void AddPoseGraphEdges(PoseGraphRotationError rotation_error,
   }
   for (size_t i = 0; i < prepared->states.size(); ++i) {
     double* q = prepared->states[i].q.coeffs().data();
-    problem->SetManifold(q, quaternion_manifold);
+    problem_.SetManifold(q, &quaternion_manifold_);
     if (prepared->constant[i]) {
-      problem->SetParameterBlockConstant(q);
-      problem->SetParameterBlockConstant(prepared->states[i].t.data());
+      problem_.SetParameterBlockConstant(q);
+      problem_.SetParameterBlockConstant(prepared->states[i].t.data());
     }
   }
 }

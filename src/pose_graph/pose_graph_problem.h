@@ -43,13 +43,24 @@ struct PreparedPoseGraph {
 // positive definite, a fixed vertex that does not exist.
 Status PreparePoseGraph(const PoseGraph& graph, PreparedPoseGraph* prepared);
 
-// One PoseGraphEdgeFactor per prepared edge on prepared->states, every
-// quaternion on `quaternion_manifold` (which must outlive the problem and
-// which the problem must not own), the gauge vertices constant.
-void AddPoseGraphEdges(PoseGraphRotationError rotation_error,
-                       ceres::Manifold* quaternion_manifold,
-                       PreparedPoseGraph* prepared,
-                       ceres::Problem* problem);
+// The Ceres problem of a prepared graph: one PoseGraphEdgeFactor per edge
+// on prepared->states (which must outlive it), every quaternion on the
+// quaternion manifold it owns, the gauge vertices constant.
+class PoseGraphProblem {
+ public:
+  PoseGraphProblem(PoseGraphRotationError rotation_error,
+                   PreparedPoseGraph* prepared);
+  PoseGraphProblem(const PoseGraphProblem&) = delete;
+  PoseGraphProblem& operator=(const PoseGraphProblem&) = delete;
+
+  ceres::Problem& problem() { return problem_; }
+
+ private:
+  // Declared before the problem, which does not own it and must not
+  // outlive it.
+  ceres::EigenQuaternionManifold quaternion_manifold_;
+  ceres::Problem problem_;
+};
 
 }  // namespace symba::internal
 

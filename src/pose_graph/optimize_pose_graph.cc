@@ -5,9 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <numeric>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 

@@ -80,6 +80,7 @@ LineRun MakeRun(unsigned seed) {
 TEST(BackendCovariances, AnObjectSeenLateCarriesTheCamerasDrift) {
   constexpr int kRuns = 40;
   double nees_sum = 0.0;
+  double rotation_nees_sum = 0.0;
   double variance_sum = 0.0;
   for (int r = 0; r < kRuns; ++r) {
     const LineRun run = MakeRun(100 + r);
@@ -98,12 +99,20 @@ TEST(BackendCovariances, AnObjectSeenLateCarriesTheCamerasDrift) {
     const Eigen::Matrix3d& P = covariances[0].position;
     nees_sum += e.dot(P.ldlt().solve(e));
     variance_sum += P.trace() / 3.0;
+    // The rotation: R_true = Exp(w) R_estimate, w in the world frame.
+    ASSERT_EQ(objects[0].poses.size(), 1u);
+    const Eigen::Vector3d w = LogSO3(
+        Eigen::Quaterniond(run.T_wo.q * objects[0].poses[0].q.inverse()));
+    rotation_nees_sum += w.dot(covariances[0].rotation->ldlt().solve(w));
   }
   const double mean_nees = nees_sum / kRuns;
   // The sample mean of 40 chi-square(3) draws has a standard deviation of
   // sqrt(6 / 40) = 0.39; without the cameras' drift it is above 20.
   EXPECT_GT(mean_nees, 3.0 - 3 * 0.39) << "mean NEES " << mean_nees;
   EXPECT_LT(mean_nees, 3.0 + 3 * 0.39) << "mean NEES " << mean_nees;
+  const double mean_rotation_nees = rotation_nees_sum / kRuns;
+  EXPECT_GT(mean_rotation_nees, 3.0 - 3 * 0.39) << mean_rotation_nees;
+  EXPECT_LT(mean_rotation_nees, 3.0 + 3 * 0.39) << mean_rotation_nees;
   // The drift dominates: 20 steps of 1 cm and 5 mrad at 3 m put the
   // object's world position far beyond its 20 detections' 2 cm / sqrt(20).
   const double detections_alone = kDetectionSigmaT * kDetectionSigmaT / 20;

@@ -73,6 +73,27 @@ TEST(PoseGraphCovariances, AChainPropagatesAsWorkedOutByHand) {
   ExpectNear(c[1].bottomLeftCorner<3, 3>(), -vr * D.transpose());
 }
 
+TEST(PoseGraphCovariances, InTheWorldFrameWhateverTheVerticesRotation) {
+  // The same chain with vertices 1 and 2 turned 90 degrees about z (the
+  // measurements turned with them). The edges' information is isotropic,
+  // so the world-frame covariances are those above; in a vertex's own
+  // frame (GTSAM's Pose3 marginals) vertex 2's would be turned by R^T:
+  // Hat(d) Hat(d)^T = diag(1, 0, 1) would read diag(0, 1, 1).
+  PoseGraph graph = Chain();
+  const Eigen::Quaterniond Rz(Eigen::AngleAxisd(0.5 * 3.14159265358979323846,
+                                                Eigen::Vector3d::UnitZ()));
+  graph.poses[1].q = Rz;
+  graph.poses[2].q = Rz;
+  graph.edges[0].T_ab = graph.poses[0].Inverse() * graph.poses[1];
+  graph.edges[1].T_ab = graph.poses[1].Inverse() * graph.poses[2];
+  std::vector<Matrix6d> turned;
+  std::vector<Matrix6d> straight;
+  ASSERT_TRUE(PoseGraphCovariances(graph, {1, 2}, {}, &turned).ok());
+  ASSERT_TRUE(PoseGraphCovariances(Chain(), {1, 2}, {}, &straight).ok());
+  ExpectNear(turned[0], straight[0]);
+  ExpectNear(turned[1], straight[1]);
+}
+
 TEST(PoseGraphCovariances, TheGaugeIsZeroAndARequestTwiceIsAnswered) {
   std::vector<Matrix6d> c;
   ASSERT_TRUE(PoseGraphCovariances(Chain(), {0, 2, 2}, {}, &c).ok());

@@ -1,7 +1,8 @@
 // Marginal covariances of a 3-D pose graph's vertices (docs/pose-graphs.md
-// "Covariances"), as GTSAM's marginalCovariance gives them: the inverse of
-// the graph's Gauss-Newton information at its poses, in each vertex's
-// tangent, with the gauge held.
+// "Covariances"): the inverse of the graph's Gauss-Newton information at its
+// poses, with the gauge held, in world-frame coordinates (GTSAM's
+// marginalCovariance gives the same marginal in the vertex's own frame,
+// rotation first).
 #ifndef SYMBA_POSE_GRAPH_POSE_GRAPH_COVARIANCE_H_
 #define SYMBA_POSE_GRAPH_POSE_GRAPH_COVARIANCE_H_
 

@@ -67,6 +67,28 @@ TEST(ObjectsJson, CovariancesRoundTripWithSixDigits) {
   EXPECT_EQ(FormatObjectsJson(read), FormatObjectsJson({Discrete()}));
 }
 
+// Every source is written by its name and read back as itself.
+TEST(ObjectsJson, EveryCovarianceSourceRoundTrips) {
+  const std::pair<MapObjectCovariance::Source, const char*> sources[] = {
+      {MapObjectCovariance::Source::kSolve, "\"covariance_source\": \"solve\""},
+      {MapObjectCovariance::Source::kPrior, "\"covariance_source\": \"prior\""},
+      {MapObjectCovariance::Source::kKeyframeGraph,
+       "\"covariance_source\": \"keyframe_graph\""}};
+  for (const auto& [source, text] : sources) {
+    MapObjectEstimate object = Discrete();
+    object.covariance->source = source;
+    const std::string written = FormatObjectsJson({object});
+    EXPECT_NE(written.find(text), std::string::npos) << written;
+    const std::string path = WriteTemp("objects_source.json", written);
+    std::vector<MapObjectEstimate> read;
+    const Status status = ReadObjectsJson(path, &read);
+    ASSERT_TRUE(status.ok()) << status.message();
+    ASSERT_EQ(read.size(), 1u);
+    ASSERT_TRUE(read[0].covariance.has_value());
+    EXPECT_EQ(read[0].covariance->source, source) << text;
+  }
+}
+
 // A discrete object's angle variances: one per angle, each >= 0 or null.
 TEST(ObjectsJson, AngleVariancesMatchTheAngles) {
   const std::string head =

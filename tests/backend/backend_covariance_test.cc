@@ -119,5 +119,43 @@ TEST(BackendCovariances, AnObjectSeenLateCarriesTheCamerasDrift) {
   EXPECT_GT(variance_sum / kRuns, 10 * detections_alone);
 }
 
+// The source of one object's covariance after replaying `keyframes` of a
+// run with `options`, then, if `batch`, one batch solve.
+MapObjectCovariance::Source SourceAfter(const BackendOptions& options,
+                                        int keyframes,
+                                        bool batch) {
+  LineRun run = MakeRun(7);
+  run.keyframes.resize(keyframes);
+  std::unique_ptr<Backend> backend;
+  testing::ReplayWindowed(run.keyframes, options, std::nullopt, &backend);
+  if (backend == nullptr) return MapObjectCovariance::Source::kPrior;
+  if (batch) {
+    EXPECT_TRUE(backend->OptimizeBatch().ok());
+  }
+  std::vector<MapObjectCovariance> covariances;
+  EXPECT_TRUE(backend->ObjectCovariances(&covariances).ok());
+  EXPECT_EQ(covariances.size(), 1u);
+  return covariances.empty() ? MapObjectCovariance::Source::kPrior
+                             : covariances[0].source;
+}
+
+TEST(BackendCovariances, TheSolvesWhereItHeldNothingButTheFirstKeyframe) {
+  using Source = MapObjectCovariance::Source;
+  BackendOptions options;
+  options.window_size = 40;  // every keyframe in the window
+  EXPECT_EQ(SourceAfter(options, kKeyframes, false), Source::kSolve);
+  options = BackendOptions();
+  options.keep_history = true;  // a batch solve over every factor
+  EXPECT_EQ(SourceAfter(options, kKeyframes, true), Source::kSolve);
+  EXPECT_EQ(SourceAfter(options, kKeyframes, false), Source::kKeyframeGraph);
+  for (const WindowPolicy policy :
+       {WindowPolicy::kCondition, WindowPolicy::kDrop}) {
+    options = BackendOptions();
+    options.window_policy = policy;
+    EXPECT_EQ(SourceAfter(options, kKeyframes, false), Source::kKeyframeGraph)
+        << WindowPolicyName(policy);
+  }
+}
+
 }  // namespace
 }  // namespace symba

@@ -54,12 +54,18 @@ py::object UpgradeToPython(const MapObjectEstimate& o) {
   return std::move(upgrade);
 }
 
-py::object Matrix3ToPython(const Eigen::Matrix3d& m) {
-  std::vector<double> values(9);
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) values[3 * r + c] = m(r, c);
+// A square matrix as an (n, n) array, row-major.
+template <int N>
+py::object MatrixToPython(const Eigen::Matrix<double, N, N>& m) {
+  std::vector<double> values(N * N);
+  for (int r = 0; r < N; ++r) {
+    for (int c = 0; c < N; ++c) values[N * r + c] = m(r, c);
   }
-  return OwnedArray(std::move(values), {3, 3});
+  return OwnedArray(std::move(values), {N, N});
+}
+
+py::object Matrix3ToPython(const Eigen::Matrix3d& m) {
+  return MatrixToPython<3>(m);
 }
 
 // {id, position, rotation, axis, angle_variances, source}: 3x3 arrays (or
@@ -496,6 +502,25 @@ void BindBackend(py::module_& m) {
           "angle_variances [rad^2 or None], source 'solve' or 'prior'}; "
           "objects without one are left out. Raises symba.Error if the last "
           "solve's problem is rank deficient.")
+      .def(
+          "keyframe_covariances",
+          [](const J& self, const std::vector<KeyframeId>& ids) {
+            std::vector<KeyframeCovariance> covariances;
+            ThrowIfError(self.backend().KeyframeCovariances(ids, &covariances));
+            py::list out;
+            for (const KeyframeCovariance& c : covariances) {
+              py::dict d;
+              d["id"] = c.id;
+              d["covariance"] = MatrixToPython<6>(c.covariance);
+              out.append(d);
+            }
+            return out;
+          },
+          py::arg("ids"),
+          "The keyframes' covariances in the world frame, in the order of "
+          "`ids` (docs/backend.md, Covariances): dicts {id, covariance "
+          "(6, 6): [t_wc m; world rotation vector rad]}, zero for the first "
+          "keyframe. Raises symba.Error for an unknown id.")
       .def(
           "save_map",
           [](J& self, const std::optional<std::string>& path) {

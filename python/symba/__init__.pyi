@@ -231,6 +231,10 @@ class MapObject:
 # "solve" or "prior".
 ObjectCovariance = dict[str, Any]
 
+# Backend.keyframe_covariances(ids): id; covariance (6, 6), [t_wc m; world
+# rotation vector rad], zero for the first keyframe.
+KeyframeCovariance = dict[str, Any]
+
 class Assignment:
     @property
     def keyframe(self) -> int: ...
@@ -391,6 +395,8 @@ class Backend:
     def keyframes(self) -> Trajectory: ...
     def objects(self) -> list[MapObject]: ...
     def object_covariances(self) -> list[ObjectCovariance]: ...
+    def keyframe_covariances(
+            self, ids: list[int]) -> list[KeyframeCovariance]: ...
     def save_map(self, path: Optional[str] = None) -> str: ...
     def load_map(self, path: Optional[str] = None, *,
                  text: Optional[str] = None,

@@ -101,6 +101,49 @@ Status Backend::Impl::ObjectCovariances(
   return Status::Ok();
 }
 
+Status Backend::Impl::KeyframeCovariances(
+    const std::vector<KeyframeId>& ids,
+    std::vector<KeyframeCovariance>* covariances) const {
+  const internal::KeyframeList& keyframes = trajectory_.keyframes();
+  // Keyframe 0 holds the gauge: known, and no vertex to ask about.
+  std::vector<int64_t> vertices;
+  for (const KeyframeId id : ids) {
+    const int k = trajectory_.IndexOf(id);
+    if (k < 0) {
+      return Status::Error("keyframe covariances: keyframe " +
+                           std::to_string(id) + " is unknown");
+    }
+    if (k > 0) vertices.push_back(k);
+  }
+  std::vector<Matrix6d> marginals;
+  if (!vertices.empty()) {
+    const int window_begin =
+        static_cast<int>(keyframes.size()) - options_.window_size;
+    const std::vector<internal::GraphObject> objects = GraphObjects();
+    const PoseGraph graph =
+        internal::MakeKeyframeGraph(keyframes, window_begin, loops_, objects);
+    const Status status =
+        PoseGraphCovariances(graph,
+                             vertices,
+                             internal::KeyframeGraphCovarianceOptions(
+                                 static_cast<int>(keyframes.size()), objects),
+                             &marginals);
+    if (!status.ok()) {
+      return Status::Error("keyframe covariances: " + status.message());
+    }
+  }
+  std::vector<KeyframeCovariance> out;
+  size_t next = 0;
+  for (const KeyframeId id : ids) {
+    KeyframeCovariance c;
+    c.id = id;
+    if (trajectory_.IndexOf(id) > 0) c.covariance = marginals[next++];
+    out.push_back(c);
+  }
+  *covariances = std::move(out);
+  return Status::Ok();
+}
+
 // ---------------------------------------------------------------------------
 // Keyframes.
 
@@ -484,6 +527,12 @@ Status Backend::AddLoopClosure(KeyframeId keyframe,
 BackendStatistics Backend::Statistics() const { return Run().statistics_; }
 
 std::vector<ClassNoiseEstimate> Backend::Noise() const { return Run().Noise(); }
+
+Status Backend::KeyframeCovariances(
+    const std::vector<KeyframeId>& ids,
+    std::vector<KeyframeCovariance>* covariances) const {
+  return impl_->KeyframeCovariances(ids, covariances);
+}
 
 Status Backend::ObjectCovariances(
     std::vector<MapObjectCovariance>* covariances) {

@@ -58,6 +58,9 @@ class Backend::Impl {
   // The closed loops' reports and the waiting ones'.
   std::vector<LoopClosureReport> LoopClosures() const;
   Status ObjectCovariances(std::vector<MapObjectCovariance>* covariances);
+  Status KeyframeCovariances(
+      const std::vector<KeyframeId>& ids,
+      std::vector<KeyframeCovariance>* covariances) const;
   // A map that lasts (saved_map.cc, docs/map-format.md).
   Status SaveMap(SavedMap* map);
   Status LoadMap(const SavedMap& map);

@@ -197,4 +197,16 @@ Rigid3d MeanMove(const std::vector<Rigid3d>& moves,
   return Rigid3d(q, p_sum / count - q * p);
 }
 
+PoseGraphCovarianceOptions KeyframeGraphCovarianceOptions(
+    int num_keyframes, const std::vector<GraphObject>& objects) {
+  PoseGraphCovarianceOptions options;
+  for (size_t o = 0; o < objects.size(); ++o) {
+    if (!objects[o].keyframes.empty() && !objects[o].rotation &&
+        !objects[o].HasAxis()) {
+      options.rotation_held.insert(num_keyframes + static_cast<int64_t>(o));
+    }
+  }
+  return options;
+}
+
 }  // namespace symba::internal

@@ -36,6 +36,7 @@
 #include "symba/common/status.h"
 #include "symba/geometry/rigid3.h"
 #include "symba/pose_graph/optimize_pose_graph.h"
+#include "symba/pose_graph/pose_graph_covariance.h"
 
 namespace symba::internal {
 
@@ -157,6 +158,11 @@ Status OptimizeKeyframeGraph(const KeyframeList& keyframes,
                              std::vector<Rigid3d>* keyframe_poses,
                              std::vector<Rigid3d>* object_poses,
                              PoseGraphSolveSummary* summary);
+
+// For PoseGraphCovariances on that graph: the objects whose rotation it
+// does not measure (no rotation, no axis) have it held.
+PoseGraphCovarianceOptions KeyframeGraphCovarianceOptions(
+    int num_keyframes, const std::vector<GraphObject>& objects);
 
 // Exactly the identity (an unmoved entity).
 inline bool IsIdentity(const Rigid3d& W) {

@@ -145,20 +145,17 @@ Status InWorldFrame(const PoseGraph& graph,
                     std::vector<MapObjectCovariance>* covariances) {
   std::vector<int64_t> vertices;
   std::vector<int> vertex_object;
-  PoseGraphCovarianceOptions options;
   for (size_t o = 0; o < objects.size(); ++o) {
     if (objects[o].keyframes.empty()) continue;
-    const int64_t vertex = num_keyframes + static_cast<int64_t>(o);
-    vertices.push_back(vertex);
+    vertices.push_back(num_keyframes + static_cast<int64_t>(o));
     vertex_object.push_back(static_cast<int>(o));
-    // Only positions measured: its rotation is no parameter of the graph.
-    if (!objects[o].rotation && !objects[o].HasAxis()) {
-      options.rotation_held.insert(vertex);
-    }
   }
   std::vector<Matrix6d> marginals;
-  const Status status =
-      PoseGraphCovariances(graph, vertices, options, &marginals);
+  const Status status = PoseGraphCovariances(
+      graph,
+      vertices,
+      KeyframeGraphCovarianceOptions(num_keyframes, objects),
+      &marginals);
   if (!status.ok()) return status;
 
   std::map<ObjectId, MapObjectCovariance> reports;

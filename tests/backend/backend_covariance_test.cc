@@ -80,6 +80,7 @@ LineRun MakeRun(unsigned seed) {
 TEST(BackendCovariances, AnObjectSeenLateCarriesTheCamerasDrift) {
   constexpr int kRuns = 40;
   double nees_sum = 0.0;
+  double camera_nees_sum = 0.0;
   double rotation_nees_sum = 0.0;
   double variance_sum = 0.0;
   for (int r = 0; r < kRuns; ++r) {
@@ -104,12 +105,26 @@ TEST(BackendCovariances, AnObjectSeenLateCarriesTheCamerasDrift) {
     const Eigen::Vector3d w = LogSO3(
         Eigen::Quaterniond(run.T_wo.q * objects[0].poses[0].q.inverse()));
     rotation_nees_sum += w.dot(covariances[0].rotation->ldlt().solve(w));
+    // The last keyframe's position.
+    std::vector<KeyframeCovariance> cameras;
+    ASSERT_TRUE(backend->KeyframeCovariances({kKeyframes - 1}, &cameras).ok());
+    ASSERT_EQ(cameras.size(), 1u);
+    const std::optional<KeyframeEstimate> last =
+        backend->Keyframe(kKeyframes - 1);
+    ASSERT_TRUE(last.has_value());
+    const Eigen::Vector3d c =
+        last->T_wc.t - Eigen::Vector3d(kStep * (kKeyframes - 1), 0, 0);
+    camera_nees_sum +=
+        c.dot(cameras[0].covariance.topLeftCorner<3, 3>().ldlt().solve(c));
   }
   const double mean_nees = nees_sum / kRuns;
   // The sample mean of 40 chi-square(3) draws has a standard deviation of
   // sqrt(6 / 40) = 0.39; without the cameras' drift it is above 20.
   EXPECT_GT(mean_nees, 3.0 - 3 * 0.39) << "mean NEES " << mean_nees;
   EXPECT_LT(mean_nees, 3.0 + 3 * 0.39) << "mean NEES " << mean_nees;
+  const double mean_camera_nees = camera_nees_sum / kRuns;
+  EXPECT_GT(mean_camera_nees, 3.0 - 3 * 0.39) << mean_camera_nees;
+  EXPECT_LT(mean_camera_nees, 3.0 + 3 * 0.39) << mean_camera_nees;
   const double mean_rotation_nees = rotation_nees_sum / kRuns;
   EXPECT_GT(mean_rotation_nees, 3.0 - 3 * 0.39) << mean_rotation_nees;
   EXPECT_LT(mean_rotation_nees, 3.0 + 3 * 0.39) << mean_rotation_nees;
@@ -117,6 +132,61 @@ TEST(BackendCovariances, AnObjectSeenLateCarriesTheCamerasDrift) {
   // object's world position far beyond its 20 detections' 2 cm / sqrt(20).
   const double detections_alone = kDetectionSigmaT * kDetectionSigmaT / 20;
   EXPECT_GT(variance_sum / kRuns, 10 * detections_alone);
+}
+
+// Keyframe covariances against the dead-reckoning propagation of the
+// odometry's noise, worked out independently: exact odometry along x
+// (steps d = (kStep, 0, 0), rotations the identity), so with each
+// keyframe's error (dt, w) in the world frame
+//   dt_k = dt_{k-1} + w_{k-1} x d + n_t,   w_k = w_{k-1} + n_r
+// and C_k = F C_{k-1} F^T + Q, F = [I, -Hat(d); 0, I],
+// Q = diag(s_t^2 I, s_r^2 I), C_0 = 0.
+TEST(BackendCovariances, AKeyframesIsItsOdometrysPropagatedNoise) {
+  std::vector<KeyframeInput> keyframes;
+  const Rigid3d step(Eigen::Quaterniond::Identity(),
+                     Eigen::Vector3d(kStep, 0, 0));
+  for (int k = 0; k < kKeyframes; ++k) {
+    KeyframeInput input;
+    input.id = 100 + k;
+    input.timestamp = k;
+    if (k == 0) {
+      input.T_wc = Rigid3d();
+    } else {
+      input.odometry = Odometry{step, kOdometrySigmaT, kOdometrySigmaR};
+    }
+    keyframes.push_back(input);
+  }
+  std::unique_ptr<Backend> backend;
+  ASSERT_NO_FATAL_FAILURE(testing::ReplayWindowed(
+      keyframes, BackendOptions(), std::nullopt, &backend));
+  // One inside the window, one long gone, and the gauge.
+  std::vector<KeyframeCovariance> got;
+  ASSERT_TRUE(backend->KeyframeCovariances({135, 105, 100}, &got).ok());
+  ASSERT_EQ(got.size(), 3u);
+  EXPECT_EQ(got[0].id, 135);
+  EXPECT_EQ(got[1].id, 105);
+  EXPECT_EQ(got[2].id, 100);
+  EXPECT_TRUE(got[2].covariance.isZero(0.0));
+
+  Matrix6d F = Matrix6d::Identity();
+  F.topRightCorner<3, 3>() = -Hat(Eigen::Vector3d(kStep, 0, 0));
+  Matrix6d Q = Matrix6d::Zero();
+  Q.topLeftCorner<3, 3>().diagonal().setConstant(kOdometrySigmaT *
+                                                 kOdometrySigmaT);
+  Q.bottomRightCorner<3, 3>().diagonal().setConstant(kOdometrySigmaR *
+                                                     kOdometrySigmaR);
+  std::vector<Matrix6d> C(kKeyframes, Matrix6d::Zero());
+  for (int k = 1; k < kKeyframes; ++k) {
+    C[k] = F * C[k - 1] * F.transpose() + Q;
+  }
+  EXPECT_LT((got[0].covariance - C[35]).cwiseAbs().maxCoeff(),
+            1e-9 * C[35].cwiseAbs().maxCoeff());
+  EXPECT_LT((got[1].covariance - C[5]).cwiseAbs().maxCoeff(),
+            1e-9 * C[5].cwiseAbs().maxCoeff());
+
+  const Status unknown = backend->KeyframeCovariances({100, 7}, &got);
+  EXPECT_EQ(unknown.message(), "keyframe covariances: keyframe 7 is unknown");
+  EXPECT_EQ(got.size(), 3u);  // untouched
 }
 
 // The source of one object's covariance after replaying `keyframes` of a

@@ -124,3 +124,26 @@ def test_bad_loop_closures_raise():
     with pytest.raises(symba.Error, match="sigma_t"):
         backend.add_loop_closure(8, symba.LoopClosure(0, np.eye(4), 0.0))
     assert backend.loop_closures() == []
+
+
+def test_keyframe_covariances_grow_with_the_odometry_and_shrink_with_a_loop():
+    """A keyframe's world covariance (docs/backend.md "Covariances"): the
+    first keyframe's is zero, the drifting odometry's accumulates along the
+    lap, and the host's loop closure back to the start takes most of it."""
+    truth = orbit()
+    keyframes = drifting_keyframes(truth)
+    ids = [0, 10, len(truth) - 1]
+    open_loop = replay(keyframes)
+    before = open_loop.keyframe_covariances(ids)
+    assert [c["id"] for c in before] == ids
+    assert all(c["covariance"].shape == (6, 6) for c in before)
+    assert not before[0]["covariance"].any()
+    np.testing.assert_allclose(before[2]["covariance"],
+                               before[2]["covariance"].T)
+    position = [np.trace(c["covariance"][:3, :3]) for c in before]
+    assert 0.0 < position[1] < position[2]
+    keyframes[-1].loop_closures = [closure_to_start(truth, len(truth) - 1)]
+    closed = replay(keyframes).keyframe_covariances(ids)
+    assert np.trace(closed[2]["covariance"][:3, :3]) < 0.5 * position[2]
+    with pytest.raises(symba.Error, match="keyframe 999 is unknown"):
+        open_loop.keyframe_covariances([999])

@@ -36,6 +36,7 @@
 
 #include "symba/backend/backend_options.h"
 #include "symba/backend/estimates.h"
+#include "symba/backend/keyframe_covariance.h"
 #include "symba/backend/keyframe_input.h"
 #include "symba/backend/loop_closure.h"
 #include "symba/backend/relocalization.h"
@@ -147,6 +148,15 @@ class Backend {
   // the next solve's result at round-off level). Fails if that problem is
   // rank deficient.
   Status ObjectCovariances(std::vector<MapObjectCovariance>* covariances);
+  // The keyframes `ids`' covariances (in that order), each its marginal in
+  // the keyframe graph (docs/backend.md "Covariances": every keyframe, the
+  // camera motion, the loop closures and the objects' detections; no map
+  // points), keyframe 0 the gauge. Costs a factorisation of that graph and
+  // a solve per requested keyframe; changes nothing. Fails (nothing
+  // written) for an unknown id or a graph that cannot be factored.
+  Status KeyframeCovariances(
+      const std::vector<KeyframeId>& ids,
+      std::vector<KeyframeCovariance>* covariances) const;
   // The map as it stands (docs/map-format.md): the confirmed objects with
   // their covariances (without any where ObjectCovariances fails) and each
   // class's detection noise. Costs what ObjectCovariances costs.

@@ -83,15 +83,11 @@ Status Backend::Impl::ObjectCovariances(
   // graph), and so does a graph whose covariance cannot be computed: the
   // reports' source then says what they are.
   if (graph_.LastSolveHeldThePast() && !map_loaded_) {
-    const internal::KeyframeList& keyframes = trajectory_.keyframes();
-    const int window_begin =
-        static_cast<int>(keyframes.size()) - options_.window_size;
-    const std::vector<internal::GraphObject> objects = GraphObjects();
-    const PoseGraph graph =
-        internal::MakeKeyframeGraph(keyframes, window_begin, loops_, objects);
+    std::vector<internal::GraphObject> objects;
+    const PoseGraph graph = CurrentKeyframeGraph(&objects);
     const Status world =
         internal::InWorldFrame(graph,
-                               static_cast<int>(keyframes.size()),
+                               static_cast<int>(trajectory_.keyframes().size()),
                                objects,
                                map_.objects(),
                                &reports);
@@ -99,6 +95,15 @@ Status Backend::Impl::ObjectCovariances(
   }
   *covariances = std::move(reports);
   return Status::Ok();
+}
+
+PoseGraph Backend::Impl::CurrentKeyframeGraph(
+    std::vector<internal::GraphObject>* objects) const {
+  const internal::KeyframeList& keyframes = trajectory_.keyframes();
+  const int window_begin =
+      static_cast<int>(keyframes.size()) - options_.window_size;
+  *objects = GraphObjects();
+  return internal::MakeKeyframeGraph(keyframes, window_begin, loops_, *objects);
 }
 
 Status Backend::Impl::KeyframeCovariances(
@@ -117,11 +122,8 @@ Status Backend::Impl::KeyframeCovariances(
   }
   std::vector<Matrix6d> marginals;
   if (!vertices.empty()) {
-    const int window_begin =
-        static_cast<int>(keyframes.size()) - options_.window_size;
-    const std::vector<internal::GraphObject> objects = GraphObjects();
-    const PoseGraph graph =
-        internal::MakeKeyframeGraph(keyframes, window_begin, loops_, objects);
+    std::vector<internal::GraphObject> objects;
+    const PoseGraph graph = CurrentKeyframeGraph(&objects);
     const Status status =
         PoseGraphCovariances(graph,
                              vertices,

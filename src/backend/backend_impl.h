@@ -164,6 +164,11 @@ class Backend::Impl {
   // The confirmed objects as the keyframe graph holds them (by index; the
   // others without keyframes).
   std::vector<internal::GraphObject> GraphObjects() const;
+  // The keyframe graph as it stands (MakeKeyframeGraph of every keyframe,
+  // the window's first, the loops and *objects = GraphObjects()), for its
+  // covariances.
+  PoseGraph CurrentKeyframeGraph(
+      std::vector<internal::GraphObject>* objects) const;
   // Each object's rigid move: with the window if only the window saw it
   // (keyframes from window_begin on), else to its optimised vertex, or by
   // the mean move of its detectors if it is not in the graph; identity for

@@ -88,6 +88,8 @@ class BackendOptions:
     min_support_views: int
     upgrade_evidence: int
     upgrade_min_fraction: float
+    upgrade_confusion_rate: float
+    upgrade_odds: float
     max_upgrade_order: int
     upgrade_angle_tolerance: float
     detect_loops: bool

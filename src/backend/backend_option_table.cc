@@ -263,7 +263,21 @@ void AppendRealDetectorOptions(OptionTable<BackendOptions>* table) {
                           "",
                           Fraction(),
                           "symba: the agreeing flips' least share of the "
-                          "keyframes that detected the object"),
+                          "keyframes that detected the object (and the "
+                          "class's flips' of its objects' keyframes)"),
+          DoubleOption<O>("upgrade_confusion_rate",
+                          &O::upgrade_confusion_rate,
+                          "",
+                          AboveBelow(0.0, 0.3),
+                          "symba: how often a detector turns an asymmetric "
+                          "object to a wrong rotation (the upgrade test's "
+                          "alternative)"),
+          DoubleOption<O>("upgrade_odds",
+                          &O::upgrade_odds,
+                          "",
+                          AtLeast(1.0),
+                          "symba: the odds two recurring rotations need over "
+                          "one rotation and confusions before an upgrade"),
           IntOption<O>("max_upgrade_order",
                        &O::max_upgrade_order,
                        AtLeast(2),

@@ -90,6 +90,9 @@ void ObjectMap::NoteDetection(int o,
   if (object.last_keyframe != k) {
     object.last_keyframe = k;
     ++object.keyframes_seen;
+    if (object.type == SymmetryType::kAsymmetric) {
+      ++class_flips_[object.class_name].keyframes;
+    }
   }
   const double distance = t_co.norm();
   if (!(distance > 0.0)) return;
@@ -289,26 +292,31 @@ bool ObjectMap::RecordFlip(int o, int k, const SymbaMatch& match) {
   flip.keyframe = k;
   flip.a_o = match.a_o;
   flip.angle = match.flip_angle;
+  const ClassPrior* prior = PriorOf(object.class_name);
+  const int known_order =
+      prior && prior->symmetry == SymmetryType::kDiscrete ? prior->order : 0;
+  ClassFlipCounts& class_flips = class_flips_[object.class_name];
+  if (object.flips.empty() || object.flips.back().keyframe != k) {
+    for (int order = 2; order <= options_.max_upgrade_order; ++order) {
+      if ((known_order == 0 || order == known_order) &&
+          FitsOrder(flip.angle, order, options_.upgrade_angle_tolerance)) {
+        ++class_flips.flip_keyframes_by_order[order];
+      }
+    }
+  }
   object.flips.push_back(flip);
   const FlipConsensus consensus = ConsistentFlips(
       object.flips, flip, options_.gate_axis, options_.gate_angle);
-  const ClassPrior* prior = PriorOf(object.class_name);
-  int order = 0;
-  if (prior && prior->symmetry == SymmetryType::kDiscrete) {
-    if (FitsOrder(consensus.mean_angle,
-                  prior->order,
-                  options_.upgrade_angle_tolerance)) {
-      order = prior->order;
-    }
-  } else {
-    order = PlausibleOrder(consensus.mean_angle,
-                           options_.max_upgrade_order,
-                           options_.upgrade_angle_tolerance);
-  }
+  const int order = FlipOrder(consensus.mean_angle, known_order);
   // keyframes_seen counts this keyframe only after the detection.
   const int seen = object.keyframes_seen + (object.last_keyframe == k ? 0 : 1);
-  if (consensus.count < options_.upgrade_evidence ||
-      consensus.count < options_.upgrade_min_fraction * seen || order == 0) {
+  const int unflipped = seen - KeyframesWithFlip(object.flips);
+  if (order == 0 || consensus.count < options_.upgrade_evidence ||
+      consensus.count < options_.upgrade_min_fraction * seen ||
+      TwoRotationsLogOdds(
+          unflipped, consensus.count, options_.upgrade_confusion_rate) <
+          std::log(options_.upgrade_odds) ||
+      !class_flips.FlipsAsSymmetric(order, options_.upgrade_min_fraction)) {
     ++statistics_->rotation_outliers;
     return false;
   }
@@ -319,6 +327,16 @@ bool ObjectMap::RecordFlip(int o, int k, const SymbaMatch& match) {
   record.angle = consensus.mean_angle;
   Upgrade(o, SymmetryType::kDiscrete, match.a_o, record);
   return true;
+}
+
+int ObjectMap::FlipOrder(double angle, int known_order) const {
+  if (known_order > 0) {
+    return FitsOrder(angle, known_order, options_.upgrade_angle_tolerance)
+               ? known_order
+               : 0;
+  }
+  return PlausibleOrder(
+      angle, options_.max_upgrade_order, options_.upgrade_angle_tolerance);
 }
 
 void ObjectMap::Upgrade(int o,

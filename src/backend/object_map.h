@@ -19,6 +19,7 @@
 #include "backend/backend_state.h"
 #include "backend/detection_noise.h"
 #include "backend/factor_graph.h"
+#include "backend/upgrade_evidence.h"
 #include "symba/backend/backend.h"
 #include "symba/categorization/hypothesis_scatter.h"
 #include "symba/manifolds/axis_manifold.h"
@@ -145,6 +146,10 @@ class ObjectMap {
   // The class prior's symmetry order when it applies to object o (discrete
   // prior, order >= 2, axis along the object's a_o), else 0.
   int KnownOrder(int o) const;
+  // The symmetry order a flip by `angle` shows: `known_order` (a discrete
+  // class prior's, 0 if none) if it fits, else the smallest plausible one
+  // (upgrade_evidence.h); 0 if none.
+  int FlipOrder(double angle, int known_order) const;
   // The MatchOrAddAngles' one rule for discrete object o seen at R_wo: the
   // angle within gate_angle; else, with order > 0, the one modulo
   // 2 pi / order that is not in `taken` (*multiple its multiple, counted in
@@ -165,7 +170,8 @@ class ObjectMap {
 
   ObjectList objects_;
   std::map<std::string, std::vector<int>> objects_by_class_;
-  std::vector<int> tentative_;  // indices
+  std::map<std::string, ClassFlipCounts> class_flips_;  // upgrade evidence
+  std::vector<int> tentative_;                          // indices
   int confirmations_ = 0;
   double view_cone_cos_ = 1.0;  // cos of the widest detection bearing
   double view_depth_ = 0.0;     // the largest detection distance (m)

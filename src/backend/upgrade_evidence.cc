@@ -1,5 +1,6 @@
 #include "backend/upgrade_evidence.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "backend/association.h"
@@ -41,6 +42,29 @@ FlipConsensus ConsistentFlips(const std::vector<FlipEvidence>& flips,
   }
   if (consensus.count > 0) consensus.mean_angle = sum / consensus.count;
   return consensus;
+}
+
+int KeyframesWithFlip(const std::vector<FlipEvidence>& flips) {
+  std::vector<int> keyframes;
+  keyframes.reserve(flips.size());
+  for (const FlipEvidence& flip : flips) keyframes.push_back(flip.keyframe);
+  std::sort(keyframes.begin(), keyframes.end());
+  return static_cast<int>(std::unique(keyframes.begin(), keyframes.end()) -
+                          keyframes.begin());
+}
+
+double TwoRotationsLogOdds(int unflipped, int flipped, double confusion_rate) {
+  constexpr double kLeastShare = 1.0 / 3.0;
+  const int minority = std::min(unflipped, flipped);
+  const int majority = std::max(unflipped, flipped);
+  return minority * std::log(kLeastShare / confusion_rate) +
+         majority * std::log((1.0 - kLeastShare) / (1.0 - confusion_rate));
+}
+
+bool ClassFlipCounts::FlipsAsSymmetric(int order, double fraction) const {
+  const auto it = flip_keyframes_by_order.find(order);
+  const int flips = it == flip_keyframes_by_order.end() ? 0 : it->second;
+  return flips > 0 && flips >= fraction * keyframes;
 }
 
 }  // namespace symba::internal

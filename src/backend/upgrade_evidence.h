@@ -12,7 +12,22 @@
 //     are at least upgrade_min_fraction of the keyframes that detected the
 //     object (a real symmetric object seen by a single-pose detector flips
 //     in about half of them; a detector's occasional confusion in a few
-//     percent); and
+//     percent);
+//   - both rotations recur: with n0 keyframes that saw the object unflipped
+//     and n1 agreeing flips, m = min(n0, n1), n = n0 + n1, the odds
+//       (1/3)^m (2/3)^(n-m) / (c^m (1-c)^(n-m))
+//     of "a symmetric object, each of the two rotations at least a third
+//     of the n" against "one rotation, the other a detector's confusion at
+//     the rate c = upgrade_confusion_rate" reach upgrade_odds. A young
+//     object made from one wrongly turned detection sees every later one as
+//     a flip (m = 1), and so does an object the detector turns for a while;
+//     neither is a symmetry;
+//   - the class flips as a symmetric one does: its asymmetric objects'
+//     keyframes with a flip whose own angle fits the order are at
+//     least upgrade_min_fraction of all their keyframes (a ghost of a
+//     textured can that flips as often as a symmetric one does not make the
+//     can symmetric, nor does a drifting camera turn the rest by 30 degrees);
+//     and
 //   - their mean angle is a plausible symmetry: within
 //     upgrade_angle_tolerance of 2 pi j / K for an order K in
 //     2..max_upgrade_order (the prior's order only, with a discrete prior).
@@ -20,6 +35,7 @@
 #ifndef SYMBA_SRC_BACKEND_UPGRADE_EVIDENCE_H_
 #define SYMBA_SRC_BACKEND_UPGRADE_EVIDENCE_H_
 
+#include <map>
 #include <vector>
 
 #include "backend/backend_state.h"
@@ -44,6 +60,26 @@ FlipConsensus ConsistentFlips(const std::vector<FlipEvidence>& flips,
                               const FlipEvidence& flip,
                               double gate_axis,
                               double gate_angle);
+
+// The number of distinct keyframes among `flips` (in any order).
+int KeyframesWithFlip(const std::vector<FlipEvidence>& flips);
+
+// The natural log of the odds above: `unflipped` keyframes saw the object
+// at its rotation, `flipped` at the flips' one; `confusion_rate` in
+// (0, 1/3) (the option allows (0, 0.3)).
+double TwoRotationsLogOdds(int unflipped, int flipped, double confusion_rate);
+
+// Keyframes in which the asymmetric objects of one class were detected,
+// and those of them with a flip whose angle fits order K (2 pi j / K; its
+// first flip in the keyframe), per K: a flip by pi counts for K = 2 and 4.
+struct ClassFlipCounts {
+  int keyframes = 0;
+  std::map<int, int> flip_keyframes_by_order;
+
+  // Whether the flips of order `order` are at least `fraction` of the
+  // keyframes.
+  bool FlipsAsSymmetric(int order, double fraction) const;
+};
 
 }  // namespace symba::internal
 

@@ -82,6 +82,8 @@ constexpr FlagAlias kFlagAliases[] = {
     {"min_support", "--min-support"},
     {"upgrade_evidence", "--upgrade-evidence"},
     {"upgrade_min_fraction", "--upgrade-min-fraction"},
+    {"upgrade_confusion_rate", "--upgrade-confusion-rate"},
+    {"upgrade_odds", "--upgrade-odds"},
     {"max_upgrade_order", "--max-upgrade-order"},
 };
 

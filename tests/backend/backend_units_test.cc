@@ -231,6 +231,43 @@ TEST(ConsistentFlips, CountsAgreeingFlipsOncePerKeyframe) {
   EXPECT_NEAR(consensus.mean_angle, (178 + 174 + 170) / 3.0 * kDeg, 1e-12);
 }
 
+TEST(KeyframesWithFlip, CountsDistinctKeyframesInAnyOrder) {
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  EXPECT_EQ(KeyframesWithFlip({}), 0);
+  // A merged object's flips: two lists, not in keyframe order.
+  EXPECT_EQ(KeyframesWithFlip({{5, z, kPi},
+                               {3, z, kPi},
+                               {5, z, 90 * kDeg},
+                               {1, z, kPi},
+                               {3, z, kPi}}),
+            3);
+}
+
+// ln[(1/3)^m (2/3)^(n-m) / (c^m (1-c)^(n-m))], m the smaller count, n both.
+TEST(TwoRotationsLogOdds, IsTheLikelihoodRatioOfTwoRecurringRotations) {
+  // m = 3, n = 6, c = 0.05: 3 ln(20/3) + 3 ln((2/3)/0.95).
+  EXPECT_NEAR(TwoRotationsLogOdds(3, 3, 0.05), 4.628844513495802, 1e-12);
+  // m = 2, n = 5: 2 ln(20/3) + 3 ln((2/3)/0.95).
+  EXPECT_NEAR(TwoRotationsLogOdds(2, 3, 0.05), 2.731724528609921, 1e-12);
+  EXPECT_DOUBLE_EQ(TwoRotationsLogOdds(3, 2, 0.05),
+                   TwoRotationsLogOdds(2, 3, 0.05));
+  // One unflipped view (an object made from a turned detection) never
+  // reaches odds 100, however many flips agree: each lowers the odds.
+  EXPECT_LT(TwoRotationsLogOdds(1, 3, 0.05), std::log(100.0));
+  EXPECT_LT(TwoRotationsLogOdds(1, 50, 0.05), TwoRotationsLogOdds(1, 3, 0.05));
+  // A 2-fold object seen at random: half and half passes at 3 and 3.
+  EXPECT_GE(TwoRotationsLogOdds(3, 3, 0.05), std::log(100.0));
+}
+
+TEST(ClassFlipCounts, FlipsAsSymmetricComparesTheOrdersShare) {
+  ClassFlipCounts counts;
+  counts.keyframes = 40;
+  counts.flip_keyframes_by_order = {{2, 12}, {4, 11}};
+  EXPECT_TRUE(counts.FlipsAsSymmetric(2, 0.3));   // 12 >= 0.3 * 40
+  EXPECT_FALSE(counts.FlipsAsSymmetric(4, 0.3));  // 11 < 12
+  EXPECT_FALSE(counts.FlipsAsSymmetric(3, 0.0));  // no flip of order 3
+}
+
 // ---------------------------------------------------------------------------
 // Association on hand-built objects.
 

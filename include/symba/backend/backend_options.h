@@ -199,8 +199,16 @@ struct BackendOptions {
   // keyframes that detected the object: a symmetric object seen by a
   // single-pose detector flips in about half of them (1 - 1/K), a textured
   // box that a detector now and then turns by 90 degrees in a few percent.
+  // Both rotations must recur: with n0 keyframes that saw the object
+  // unflipped, n1 agreeing flips, m = min(n0, n1), n = n0 + n1, the odds
+  // (1/3)^m (2/3)^(n-m) / (c^m (1-c)^(n-m)) of a symmetric object against
+  // one rotation and a detector's confusion at the rate
+  // c = upgrade_confusion_rate must reach upgrade_odds; and the class's
+  // asymmetric objects must flip in upgrade_min_fraction of their keyframes.
   int upgrade_evidence = 3;
   double upgrade_min_fraction = 0.3;
+  double upgrade_confusion_rate = 0.05;
+  double upgrade_odds = 100.0;
   int max_upgrade_order = 4;
   double upgrade_angle_tolerance = 10.0 * kPi / 180.0;  // rad
 

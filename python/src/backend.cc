@@ -251,6 +251,7 @@ void BindEstimates(py::module_& m) {
       .def_readonly("objects", &S::objects)
       .def_readonly("points", &S::points)
       .def_readonly("object_upgrades", &S::object_upgrades)
+      .def_readonly("objects_turned", &S::objects_turned)
       .def_readonly("objects_dropped", &S::objects_dropped)
       .def_readonly("rotation_outliers", &S::rotation_outliers)
       .def_readonly("folded_angles", &S::folded_angles)
@@ -273,6 +274,7 @@ void BindEstimates(py::module_& m) {
                               "objects",
                               "points",
                               "object_upgrades",
+                              "objects_turned",
                               "objects_dropped",
                               "rotation_outliers",
                               "folded_angles",

@@ -173,6 +173,7 @@ SymbaMatch FindSymbaMatch(const ObjectList& objects,
           continue;
         }
         candidate.flip = true;
+        candidate.R_wo_flip = nearest;
         candidate.flip_angle = std::abs(TwistAngle(
             Eigen::Quaterniond(R_wo.conjugate() * nearest), candidate.a_o));
         d_angle = options.gate_axis;  // ranks after any 6-DoF match

@@ -94,6 +94,8 @@ struct SymbaMatch {
   bool flip = false;     // a twist away from an asymmetric object's pose
   Eigen::Vector3d a_o = Eigen::Vector3d::Zero();  // the axis, if either
   double flip_angle = 0.0;  // the twist about a_o (rad, [0, pi]), if a flip
+  // A flip's world rotation: the detection's hypothesis nearest the object.
+  Eigen::Quaterniond R_wo_flip = Eigen::Quaterniond::Identity();
 };
 
 // symba: the best object for a categorized detection seen from T_wc, or

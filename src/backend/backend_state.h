@@ -85,6 +85,10 @@ struct ObjectObservation {
   std::vector<PoseComponent> components;
   Rigid3d T_co_best;  // representative hypothesis
   Eigen::Vector3d axis_c = Eigen::Vector3d::Zero();  // measured axis, if any
+  // Its rotation carries no information (kPositionOnlySigmaR,
+  // object_edges.h): a view of an object from before the object was turned
+  // to the rotation its later views agree on (ObjectMap::RecordFlip).
+  bool position_only = false;
   int angle = -1;   // discrete: the angle it constrains; -1: no angle
   int factor = -1;  // its edge's factor index
 };

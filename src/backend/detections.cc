@@ -183,7 +183,9 @@ int Backend::Impl::AddSymba(int k,
                  record);
     edges_.Rebuild(o);
   } else if (match.flip) {
-    if (map_.RecordFlip(o, k, match)) {
+    const internal::ObjectMap::FlipOutcome outcome =
+        map_.RecordFlip(o, k, match);
+    if (outcome != internal::ObjectMap::FlipOutcome::kOutlier) {
       edges_.Rebuild(o);
     } else {
       // A rotation outlier: it joins the object without an edge.

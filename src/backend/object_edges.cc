@@ -203,6 +203,13 @@ std::unique_ptr<ceres::CostFunction> ObjectEdges::BuildEdge(
     const Matrix6d sqrt_info = IsotropicPoseSqrtInfo(sigmas.t, sigmas.r);
     for (PoseComponent& c : components) c.sqrt_info = sqrt_info;
   }
+  if (observation.position_only) {
+    for (PoseComponent& c : components) {
+      c.sqrt_info.bottomRows<3>().setZero();
+      c.sqrt_info.bottomRightCorner<3, 3>() =
+          Eigen::Matrix3d::Identity() / kPositionOnlySigmaR;
+    }
+  }
   if (object->type == SymmetryType::kAsymmetric) {
     std::unique_ptr<AsymmetricObjectEdge> edge;
     Status status =

@@ -22,6 +22,12 @@
 
 namespace symba::internal {
 
+// The rotation noise of a position-only observation's edge (rad): so large
+// that the rotation carries no information (a whitened residual of at most
+// pi / 1000), while the square-root information stays invertible, as the
+// mixture's normaliser needs.
+constexpr double kPositionOnlySigmaR = 1000.0;
+
 struct EdgeSigmas {
   double t = 0.0;  // m
   double r = 0.0;  // rad

@@ -286,7 +286,9 @@ void ObjectMap::Load(const MapObjectEstimate& e) {
 // ---------------------------------------------------------------------------
 // Upgrades and angles.
 
-bool ObjectMap::RecordFlip(int o, int k, const SymbaMatch& match) {
+ObjectMap::FlipOutcome ObjectMap::RecordFlip(int o,
+                                             int k,
+                                             const SymbaMatch& match) {
   ObjectState& object = *objects_[o];
   FlipEvidence flip;
   flip.keyframe = k;
@@ -311,6 +313,14 @@ bool ObjectMap::RecordFlip(int o, int k, const SymbaMatch& match) {
   // keyframes_seen counts this keyframe only after the detection.
   const int seen = object.keyframes_seen + (object.last_keyframe == k ? 0 : 1);
   const int unflipped = seen - KeyframesWithFlip(object.flips);
+  if (FlipsOutvoteTheRotation(unflipped,
+                              consensus.count,
+                              options_.upgrade_confusion_rate,
+                              options_.upgrade_odds) &&
+      consensus.count >= options_.upgrade_evidence) {
+    Turn(o, match.R_wo_flip, unflipped, match.a_o, match.flip_angle);
+    return FlipOutcome::kTurned;
+  }
   if (order == 0 || consensus.count < options_.upgrade_evidence ||
       consensus.count < options_.upgrade_min_fraction * seen ||
       TwoRotationsLogOdds(
@@ -318,7 +328,7 @@ bool ObjectMap::RecordFlip(int o, int k, const SymbaMatch& match) {
           std::log(options_.upgrade_odds) ||
       !class_flips.FlipsAsSymmetric(order, options_.upgrade_min_fraction)) {
     ++statistics_->rotation_outliers;
-    return false;
+    return FlipOutcome::kOutlier;
   }
   UpgradeRecord record;
   record.keyframe = k;
@@ -326,7 +336,40 @@ bool ObjectMap::RecordFlip(int o, int k, const SymbaMatch& match) {
   record.order = order;
   record.angle = consensus.mean_angle;
   Upgrade(o, SymmetryType::kDiscrete, match.a_o, record);
-  return true;
+  return FlipOutcome::kUpgraded;
+}
+
+void ObjectMap::Turn(int o,
+                     const Eigen::Quaterniond& R_wo,
+                     int left,
+                     const Eigen::Vector3d& a_o,
+                     double angle) {
+  ObjectState& object = *objects_[o];
+  graph_->RemoveFromObjectPrior(o, {object.q});
+  const Eigen::Quaterniond R_old = object.Rotation(-1);
+  const Eigen::Quaterniond R_new = R_wo.normalized();
+  Eigen::Map<Eigen::Quaterniond>(object.q) = R_new;
+  // Each earlier view keeps its position; its rotation turns with the
+  // object (so that the SE(3) error's translation, which mixes in the
+  // rotation through the lever arm, stays its position's) and is not weighed.
+  const Eigen::Quaterniond turn = R_old.conjugate() * R_new;
+  for (size_t i = graph_->FirstLiveObservation(object);
+       i < object.observations.size();
+       ++i) {
+    ObjectObservation& observation = object.observations[i];
+    for (PoseComponent& c : observation.components) {
+      c.T_co.q = (c.T_co.q * turn).normalized();
+    }
+    observation.T_co_best.q = (observation.T_co_best.q * turn).normalized();
+    observation.position_only = true;
+  }
+  // The views at the rotation it leaves are its flips now (their keyframes
+  // are not kept: numbered before its first, they count once each).
+  object.flips.clear();
+  for (int i = 0; i < left; ++i) {
+    object.flips.push_back({object.created_keyframe - 1 - i, a_o, angle});
+  }
+  ++statistics_->objects_turned;
 }
 
 int ObjectMap::FlipOrder(double angle, int known_order) const {

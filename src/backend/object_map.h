@@ -67,10 +67,13 @@ class ObjectMap {
   // drops those detected in too few of their views (min_support).
   void PruneUnsupported(int k, const Rigid3d& T_wc);
 
-  // symba: a flip of object o joins it without an edge, or upgrades it once
-  // the evidence suffices (upgrade_evidence.h). True if it upgraded: its
-  // edges must then be rebuilt.
-  bool RecordFlip(int o, int k, const SymbaMatch& match);
+  // symba: a flip of object o joins it without an edge (kOutlier), upgrades
+  // it once the evidence suffices, or turns it to the flip's rotation once
+  // the flips say its own rotation was the detector's confusion
+  // (upgrade_evidence.h). Upgraded or turned, its edges must then be
+  // rebuilt; turned, the flip is a view of it at its rotation.
+  enum class FlipOutcome { kOutlier, kUpgraded, kTurned };
+  FlipOutcome RecordFlip(int o, int k, const SymbaMatch& match);
   // Object o becomes `type` about a_o (object frame); its edges must then be
   // rebuilt.
   void Upgrade(int o,
@@ -150,6 +153,15 @@ class ObjectMap {
   // class prior's, 0 if none) if it fits, else the smallest plausible one
   // (upgrade_evidence.h); 0 if none.
   int FlipOrder(double angle, int known_order) const;
+  // Turns asymmetric object o to the world rotation R_wo: its earlier views
+  // in the window keep their positions only, its prior loses the rotation,
+  // its flips start again from the views at the rotation it leaves (counted
+  // as `left` flips by `angle` about a_o).
+  void Turn(int o,
+            const Eigen::Quaterniond& R_wo,
+            int left,
+            const Eigen::Vector3d& a_o,
+            double angle);
   // The MatchOrAddAngles' one rule for discrete object o seen at R_wo: the
   // angle within gate_angle; else, with order > 0, the one modulo
   // 2 pi / order that is not in `taken` (*multiple its multiple, counted in

@@ -61,6 +61,19 @@ double TwoRotationsLogOdds(int unflipped, int flipped, double confusion_rate) {
          majority * std::log((1.0 - kLeastShare) / (1.0 - confusion_rate));
 }
 
+bool FlipsOutvoteTheRotation(int unflipped,
+                             int flipped,
+                             double confusion_rate,
+                             double odds) {
+  const double log_odds = std::log(odds);
+  const double against_own =
+      (flipped - unflipped) * std::log((1.0 - confusion_rate) / confusion_rate);
+  const double against_symmetry =
+      -TwoRotationsLogOdds(unflipped, flipped, confusion_rate);
+  return flipped > unflipped && against_own >= log_odds &&
+         against_symmetry >= log_odds;
+}
+
 bool ClassFlipCounts::FlipsAsSymmetric(int order, double fraction) const {
   const auto it = flip_keyframes_by_order.find(order);
   const int flips = it == flip_keyframes_by_order.end() ? 0 : it->second;

@@ -31,7 +31,12 @@
 //   - their mean angle is a plausible symmetry: within
 //     upgrade_angle_tolerance of 2 pi j / K for an order K in
 //     2..max_upgrade_order (the prior's order only, with a discrete prior).
-// Until then the flipped detection joins the object without an edge.
+// Until then the flipped detection joins the object without an edge. When
+// the flips instead say the object's own rotation was the confusion
+// (FlipsOutvoteTheRotation: more flips than views, and a symmetry rejected
+// with the same odds), the object turns to the flips' rotation
+// (ObjectMap::Turn): a young object made from one turned detection gets
+// the rotation the detector gives it from then on.
 #ifndef SYMBA_SRC_BACKEND_UPGRADE_EVIDENCE_H_
 #define SYMBA_SRC_BACKEND_UPGRADE_EVIDENCE_H_
 
@@ -68,6 +73,17 @@ int KeyframesWithFlip(const std::vector<FlipEvidence>& flips);
 // at its rotation, `flipped` at the flips' one; `confusion_rate` in
 // (0, 1/3) (the option allows (0, 0.3)).
 double TwoRotationsLogOdds(int unflipped, int flipped, double confusion_rate);
+
+// Whether the object's own rotation is the detector's confusion: odds of
+// `odds` for "the flips' rotation is the object's, its own a confusion at
+// `confusion_rate`" both against "its own rotation, the flips confusions"
+// ((n1 - n0) ln((1 - c) / c)) and against a symmetric object (the negated
+// TwoRotationsLogOdds). A symmetric object's views never pass: both of its
+// rotations recur.
+bool FlipsOutvoteTheRotation(int unflipped,
+                             int flipped,
+                             double confusion_rate,
+                             double odds);
 
 // Keyframes in which the asymmetric objects of one class were detected,
 // and those of them with a flip whose angle fits order K (2 pi j / K; its

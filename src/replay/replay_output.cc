@@ -262,6 +262,7 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
       .EndObject()
       .Member("points", s.points)
       .Member("object_upgrades", s.object_upgrades)
+      .Member("objects_turned", s.objects_turned)
       .Member("objects_dropped", s.objects_dropped)
       .Member("objects_merged", s.objects_merged)
       .Member("rotation_outliers", s.rotation_outliers)

@@ -259,6 +259,19 @@ TEST(TwoRotationsLogOdds, IsTheLikelihoodRatioOfTwoRecurringRotations) {
   EXPECT_GE(TwoRotationsLogOdds(3, 3, 0.05), std::log(100.0));
 }
 
+// (n1 - n0) ln((1 - c) / c) >= ln(odds) and -TwoRotationsLogOdds >= ln(odds).
+TEST(FlipsOutvoteTheRotation, NeedsTheFlipsToRejectASymmetryToo) {
+  // One view and 18 flips: a symmetry has odds exp(1.897 - 18 * 0.354) =
+  // exp(-4.48) > 1/100; 19 flips: exp(-4.83) < 1/100.
+  EXPECT_FALSE(FlipsOutvoteTheRotation(1, 18, 0.05, 100.0));
+  EXPECT_TRUE(FlipsOutvoteTheRotation(1, 19, 0.05, 100.0));
+  // A symmetric object's two rotations recur: never.
+  EXPECT_FALSE(FlipsOutvoteTheRotation(10, 12, 0.05, 100.0));
+  EXPECT_FALSE(FlipsOutvoteTheRotation(30, 60, 0.05, 100.0));  // 4-fold
+  // More views than flips: never.
+  EXPECT_FALSE(FlipsOutvoteTheRotation(19, 1, 0.05, 100.0));
+}
+
 TEST(ClassFlipCounts, FlipsAsSymmetricComparesTheOrdersShare) {
   ClassFlipCounts counts;
   counts.keyframes = 40;

@@ -195,15 +195,23 @@ TEST_F(ObjectMapTest, AnObjectInViewButRarelyDetectedIsPruned) {
   EXPECT_EQ(statistics_.objects, 1);
 }
 
-// A flip by pi about z in keyframe k, for RecordFlip; the detection is
-// then noted, as the backend does.
-bool ObjectMapTestFlip(ObjectMap* map, int o, int k, double angle = kPi) {
+// A flip by `angle` about z in keyframe k of an object at the identity
+// rotation, for RecordFlip (the detection is then noted, as the backend
+// does).
+ObjectMap::FlipOutcome FlipOutcomeOf(ObjectMap* map,
+                                     int o,
+                                     int k,
+                                     double angle = kPi) {
   SymbaMatch flip;
   flip.object = o;
   flip.flip = true;
   flip.a_o = Eigen::Vector3d::UnitZ();
   flip.flip_angle = angle;
+  flip.R_wo_flip = AboutZ(angle);
   return map->RecordFlip(o, k, flip);
+}
+bool ObjectMapTestFlip(ObjectMap* map, int o, int k, double angle = kPi) {
+  return FlipOutcomeOf(map, o, k, angle) == ObjectMap::FlipOutcome::kUpgraded;
 }
 
 // upgrade_evidence 2, upgrade_min_fraction 0: three unflipped views, then
@@ -243,20 +251,30 @@ TEST_F(ObjectMapTest, RepeatedFlipsUpgradeAnAsymmetricObject) {
 // An object made from one wrongly turned detection: every later detection
 // is a flip by the same angle, each agreeing with the others. That is
 // evidence against its first rotation, not a symmetry (the YCB-Video potted
-// meat can and cracker box were upgraded so): 30 agreeing flips, one
-// unflipped view, no upgrade.
-TEST_F(ObjectMapTest, AnObjectMadeFromATurnedDetectionIsNotUpgraded) {
+// meat can and cracker box were upgraded so): no upgrade. Once the flips
+// reject a symmetry too (one view and 19 flips: odds exp(-4.83) for two
+// recurring rotations, upgrade_evidence.h) the object turns to the flips'
+// rotation, and their detections are views of it from then on.
+TEST_F(ObjectMapTest, AnObjectMadeFromATurnedDetectionTurnsAndIsNotUpgraded) {
   BackendOptions options;
   options.confirm_keyframes = 1;
   Build(options);
   const int o = map_->Create("can", SymmetryType::kAsymmetric, At(0, 0, 2), 0);
   Detect(o, 0);
-  for (int k = 1; k <= 30; ++k) {
-    EXPECT_FALSE(ObjectMapTestFlip(map_, o, k, 86 * kPi / 180))
+  const double angle = 86 * kPi / 180;
+  for (int k = 1; k <= 18; ++k) {
+    EXPECT_EQ(FlipOutcomeOf(map_, o, k, angle),
+              ObjectMap::FlipOutcome::kOutlier)
         << "keyframe " << k;
     Detect(o, k);
   }
-  EXPECT_EQ(map_->objects()[o]->type, SymmetryType::kAsymmetric);
+  EXPECT_EQ(FlipOutcomeOf(map_, o, 19, angle), ObjectMap::FlipOutcome::kTurned);
+  const ObjectState& object = *map_->objects()[o];
+  EXPECT_EQ(object.type, SymmetryType::kAsymmetric);
+  EXPECT_LT(object.Rotation(-1).angularDistance(AboutZ(angle)), 1e-12);
+  // The view at the rotation it left is its one flip now.
+  EXPECT_EQ(KeyframesWithFlip(object.flips), 1);
+  EXPECT_EQ(statistics_.objects_turned, 1);
   EXPECT_EQ(statistics_.object_upgrades, 0);
 }
 
@@ -289,6 +307,7 @@ TEST_F(ObjectMapTest, AClassThatRarelyFlipsIsNotUpgradedByOneObject) {
     }
     EXPECT_EQ(upgraded, !class_seen_before);
     EXPECT_EQ(statistics_.object_upgrades, class_seen_before ? 0 : 1);
+    EXPECT_EQ(statistics_.objects_turned, 0);  // both rotations recur
   }
 }
 

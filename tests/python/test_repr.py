@@ -36,7 +36,7 @@ def test_replay_results(source_dir):
         "0.30000000000000004], poses=<array (4, 7) float64>)")
     assert re.fullmatch(
         r"BackendStatistics\(keyframes=4, detections=4, objects=1, points=2, "
-        r"object_upgrades=0, objects_dropped=0, rotation_outliers=0, "
+        r"object_upgrades=0, objects_turned=0, objects_dropped=0, rotation_outliers=0, "
         r"folded_angles=0, marginalized_keyframes=0, "
         r"ambiguous_edges_dropped=0, solves=4, solve_seconds=[0-9.e-]+, "
         r"solve_iterations=4, loop_closures=0, object_loop_closures=0, "

@@ -70,7 +70,10 @@ struct BackendStatistics {
   int detections = 0;
   int objects = 0;  // confirmed map objects
   int points = 0;
-  int object_upgrades = 0;    // asymmetric map objects that became symmetric
+  int object_upgrades = 0;  // asymmetric map objects that became symmetric
+  // asymmetric map objects turned to the rotation their later detections
+  // agree on (their first was a detector's confusion)
+  int objects_turned = 0;
   int objects_dropped = 0;    // tentative objects never confirmed
   int rotation_outliers = 0;  // symba: flips that did not (yet) upgrade
   // symba: discrete observations read modulo 2 pi / order (class prior)

@@ -237,7 +237,9 @@ std::unique_ptr<ceres::CostFunction> ObjectEdges::BuildEdge(
   }
   AxisMeasurement axis;
   axis.a_c = MeasuredAxis(*object, observation, kf->T_wc().q);
-  axis.sqrt_info = Eigen::Matrix2d::Identity() / options_.axis_sigma;
+  axis.sqrt_info =
+      Eigen::Matrix2d::Identity() /
+      (observation.position_only ? kPositionOnlySigmaR : options_.axis_sigma);
   axis.gamma = options_.gamma;
   std::unique_ptr<ContinuousObjectEdge> edge;
   Status status =

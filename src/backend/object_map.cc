@@ -178,6 +178,7 @@ std::vector<ObjectObservation> ObjectMap::MergeInto(int from, int into) {
       std::max(object.last_keyframe, duplicate.last_keyframe);
   object.flips.insert(
       object.flips.end(), duplicate.flips.begin(), duplicate.flips.end());
+  object.flips_left_behind += duplicate.flips_left_behind;
   // The noise samples go on from the duplicate's detections: the front
   // end's chain has drifted since the object was last seen, and a level
   // measured against its old mean would be the drift, not the detector.
@@ -297,28 +298,25 @@ ObjectMap::FlipOutcome ObjectMap::RecordFlip(int o,
   const ClassPrior* prior = PriorOf(object.class_name);
   const int known_order =
       prior && prior->symmetry == SymmetryType::kDiscrete ? prior->order : 0;
-  ClassFlipCounts& class_flips = class_flips_[object.class_name];
   if (object.flips.empty() || object.flips.back().keyframe != k) {
-    for (int order = 2; order <= options_.max_upgrade_order; ++order) {
-      if ((known_order == 0 || order == known_order) &&
-          FitsOrder(flip.angle, order, options_.upgrade_angle_tolerance)) {
-        ++class_flips.flip_keyframes_by_order[order];
-      }
-    }
+    CountClassFlip(object.class_name, flip.angle, known_order, 1);
   }
+  const ClassFlipCounts& class_flips = class_flips_[object.class_name];
   object.flips.push_back(flip);
   const FlipConsensus consensus = ConsistentFlips(
       object.flips, flip, options_.gate_axis, options_.gate_angle);
   const int order = FlipOrder(consensus.mean_angle, known_order);
   // keyframes_seen counts this keyframe only after the detection.
   const int seen = object.keyframes_seen + (object.last_keyframe == k ? 0 : 1);
-  const int unflipped = seen - KeyframesWithFlip(object.flips);
+  // The views a turn left behind are flips; a loaded map's are views.
+  const int unflipped = seen - KeyframesWithFlip(object.flips) -
+                        object.flips_left_behind + object.loaded_detections;
   if (FlipsOutvoteTheRotation(unflipped,
                               consensus.count,
                               options_.upgrade_confusion_rate,
                               options_.upgrade_odds) &&
       consensus.count >= options_.upgrade_evidence) {
-    Turn(o, match.R_wo_flip, unflipped, match.a_o, match.flip_angle);
+    Turn(o, match.R_wo_flip, unflipped, match.flip_angle, known_order);
     return FlipOutcome::kTurned;
   }
   if (order == 0 || consensus.count < options_.upgrade_evidence ||
@@ -339,11 +337,24 @@ ObjectMap::FlipOutcome ObjectMap::RecordFlip(int o,
   return FlipOutcome::kUpgraded;
 }
 
+void ObjectMap::CountClassFlip(const std::string& class_name,
+                               double angle,
+                               int known_order,
+                               int count) {
+  ClassFlipCounts& class_flips = class_flips_[class_name];
+  for (int order = 2; order <= options_.max_upgrade_order; ++order) {
+    if ((known_order == 0 || order == known_order) &&
+        FitsOrder(angle, order, options_.upgrade_angle_tolerance)) {
+      class_flips.flip_keyframes_by_order[order] += count;
+    }
+  }
+}
+
 void ObjectMap::Turn(int o,
                      const Eigen::Quaterniond& R_wo,
-                     int left,
-                     const Eigen::Vector3d& a_o,
-                     double angle) {
+                     int left_behind,
+                     double angle,
+                     int known_order) {
   ObjectState& object = *objects_[o];
   graph_->RemoveFromObjectPrior(o, {object.q});
   const Eigen::Quaterniond R_old = object.Rotation(-1);
@@ -363,12 +374,22 @@ void ObjectMap::Turn(int o,
     observation.T_co_best.q = (observation.T_co_best.q * turn).normalized();
     observation.position_only = true;
   }
-  // The views at the rotation it leaves are its flips now (their keyframes
-  // are not kept: numbered before its first, they count once each).
-  object.flips.clear();
-  for (int i = 0; i < left; ++i) {
-    object.flips.push_back({object.created_keyframe - 1 - i, a_o, angle});
+  // Its flips were measured from the rotation it leaves: out of its class's
+  // counts (each keyframe's first, as counted), and the views it leaves
+  // behind are its flips now, by the same angle.
+  for (size_t i = 0; i < object.flips.size(); ++i) {
+    if (i == 0 || object.flips[i].keyframe != object.flips[i - 1].keyframe) {
+      CountClassFlip(object.class_name, object.flips[i].angle, known_order, -1);
+    }
   }
+  CountClassFlip(object.class_name, angle, known_order, left_behind);
+  object.flips.clear();
+  object.flips_left_behind = left_behind;
+  // Its rotation samples of the detector's noise were about the rotation it
+  // leaves (detection_noise.h): they start again.
+  object.chain_rotation_sum.setZero();
+  object.chain_rotation_count = 0;
+  object.chain_last_rotation.reset();
   ++statistics_->objects_turned;
 }
 

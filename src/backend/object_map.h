@@ -37,6 +37,11 @@ class ObjectMap {
             std::vector<DetectionAssignment>* assignments);
 
   const ObjectList& objects() const { return objects_; }
+  // The class's flip counts (upgrade_evidence.h); empty if it has none.
+  ClassFlipCounts ClassFlips(const std::string& class_name) const {
+    const auto it = class_flips_.find(class_name);
+    return it == class_flips_.end() ? ClassFlipCounts{} : it->second;
+  }
   // The objects themselves, for the edges' bookkeeping (ObjectEdges).
   ObjectList& mutable_objects() { return objects_; }
   const ClassPrior* PriorOf(const std::string& class_name) const;
@@ -155,13 +160,21 @@ class ObjectMap {
   int FlipOrder(double angle, int known_order) const;
   // Turns asymmetric object o to the world rotation R_wo: its earlier views
   // in the window keep their positions only, its prior loses the rotation,
-  // its flips start again from the views at the rotation it leaves (counted
-  // as `left` flips by `angle` about a_o).
+  // its flips start again from the `left_behind` views at the rotation it
+  // leaves (flips by `angle`, also in its class's counts), its rotation
+  // noise samples start again.
   void Turn(int o,
             const Eigen::Quaterniond& R_wo,
-            int left,
-            const Eigen::Vector3d& a_o,
-            double angle);
+            int left_behind,
+            double angle,
+            int known_order);
+  // Adds `count` (may be negative) flips by `angle` to the class's counts of
+  // every order the angle fits (only `known_order`, a discrete prior's, if
+  // not 0).
+  void CountClassFlip(const std::string& class_name,
+                      double angle,
+                      int known_order,
+                      int count);
   // The MatchOrAddAngles' one rule for discrete object o seen at R_wo: the
   // angle within gate_angle; else, with order > 0, the one modulo
   // 2 pi / order that is not in `taken` (*multiple its multiple, counted in

@@ -261,6 +261,13 @@ TEST_F(ObjectMapTest, AnObjectMadeFromATurnedDetectionTurnsAndIsNotUpgraded) {
   Build(options);
   const int o = map_->Create("can", SymmetryType::kAsymmetric, At(0, 0, 2), 0);
   Detect(o, 0);
+  // Its one view, as the backend keeps it: the rotation it was made with.
+  ObjectState& object = *map_->objects()[o];
+  ObjectObservation view;
+  view.keyframe = 0;
+  view.components.push_back({At(0, 0, 2), Matrix6d::Identity(), 1.0});
+  view.T_co_best = view.components.front().T_co;
+  object.observations.push_back(view);
   const double angle = 86 * kPi / 180;
   for (int k = 1; k <= 18; ++k) {
     EXPECT_EQ(FlipOutcomeOf(map_, o, k, angle),
@@ -268,14 +275,26 @@ TEST_F(ObjectMapTest, AnObjectMadeFromATurnedDetectionTurnsAndIsNotUpgraded) {
         << "keyframe " << k;
     Detect(o, k);
   }
+  // 18 flips of order 4 (86 deg within 10 of 90) in 19 keyframes.
+  EXPECT_EQ(map_->ClassFlips("can").flip_keyframes_by_order.at(4), 18);
   EXPECT_EQ(FlipOutcomeOf(map_, o, 19, angle), ObjectMap::FlipOutcome::kTurned);
-  const ObjectState& object = *map_->objects()[o];
   EXPECT_EQ(object.type, SymmetryType::kAsymmetric);
   EXPECT_LT(object.Rotation(-1).angularDistance(AboutZ(angle)), 1e-12);
-  // The view at the rotation it left is its one flip now.
-  EXPECT_EQ(KeyframesWithFlip(object.flips), 1);
+  // The view keeps its position; its rotation turned with the object and is
+  // not weighed (object_edges.h).
+  EXPECT_TRUE(object.observations.front().position_only);
+  EXPECT_LT(
+      object.observations.front().components.front().T_co.q.angularDistance(
+          AboutZ(angle)),
+      1e-12);
+  // The view at the rotation it left is its one flip now, in its class's
+  // counts too; the 19 flips that turned it are views.
+  EXPECT_TRUE(object.flips.empty());
+  EXPECT_EQ(object.flips_left_behind, 1);
+  EXPECT_EQ(map_->ClassFlips("can").flip_keyframes_by_order.at(4), 1);
   EXPECT_EQ(statistics_.objects_turned, 1);
   EXPECT_EQ(statistics_.object_upgrades, 0);
+  EXPECT_EQ(object.chain_rotation_count, 0);
 }
 
 // A second object of a class that its detector turns by pi in half of the

@@ -75,7 +75,7 @@ struct BackendStatistics {
   // agree on (their first was a detector's confusion)
   int objects_turned = 0;
   int objects_dropped = 0;    // tentative objects never confirmed
-  int rotation_outliers = 0;  // symba: flips that did not (yet) upgrade
+  int rotation_outliers = 0;  // symba: flips that did not (yet) upgrade or turn
   // symba: discrete observations read modulo 2 pi / order (class prior)
   int folded_angles = 0;
   int marginalized_keyframes = 0;   // keyframes that left the window

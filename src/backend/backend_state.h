@@ -125,6 +125,7 @@ struct ObjectState {
   int keyframes_seen_in_view = 0;  // ... and was detected in
   std::vector<int> assignments;    // indices into the backend's assignments
   std::vector<FlipEvidence> flips;
+  int flip_keyframes = 0;     // keyframes among `flips` (each once)
   int flips_left_behind = 0;  // views at the rotation a turn left (flips now)
   std::optional<UpgradeRecord> upgrade;
   // The upgrade a loaded object had in the run that saved it (reported as

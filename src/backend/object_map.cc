@@ -179,6 +179,7 @@ std::vector<ObjectObservation> ObjectMap::MergeInto(int from, int into) {
   object.flips.insert(
       object.flips.end(), duplicate.flips.begin(), duplicate.flips.end());
   object.flips_left_behind += duplicate.flips_left_behind;
+  object.flip_keyframes += duplicate.flip_keyframes;
   // The noise samples go on from the duplicate's detections: the front
   // end's chain has drifted since the object was last seen, and a level
   // measured against its old mean would be the drift, not the detector.
@@ -299,6 +300,7 @@ ObjectMap::FlipOutcome ObjectMap::RecordFlip(int o,
   const int known_order =
       prior && prior->symmetry == SymmetryType::kDiscrete ? prior->order : 0;
   if (object.flips.empty() || object.flips.back().keyframe != k) {
+    ++object.flip_keyframes;
     CountClassFlip(object.class_name, flip.angle, known_order, 1);
   }
   const ClassFlipCounts& class_flips = class_flips_[object.class_name];
@@ -309,7 +311,7 @@ ObjectMap::FlipOutcome ObjectMap::RecordFlip(int o,
   // keyframes_seen counts this keyframe only after the detection.
   const int seen = object.keyframes_seen + (object.last_keyframe == k ? 0 : 1);
   // The views a turn left behind are flips; a loaded map's are views.
-  const int unflipped = seen - KeyframesWithFlip(object.flips) -
+  const int unflipped = seen - object.flip_keyframes -
                         object.flips_left_behind + object.loaded_detections;
   if (FlipsOutvoteTheRotation(unflipped,
                               consensus.count,
@@ -384,6 +386,7 @@ void ObjectMap::Turn(int o,
   }
   CountClassFlip(object.class_name, angle, known_order, left_behind);
   object.flips.clear();
+  object.flip_keyframes = 0;
   object.flips_left_behind = left_behind;
   // Its rotation samples of the detector's noise were about the rotation it
   // leaves (detection_noise.h): they start again.
@@ -411,6 +414,7 @@ void ObjectMap::Upgrade(int o,
   object.upgrade = record;
   object.upgrade->type = type;
   object.flips.clear();
+  object.flip_keyframes = 0;
   // The prior's rotation of the asymmetric object has no counterpart in
   // the symmetric parameters: it is marginalised out of the prior, whose
   // information on the position stays (docs/backend.md "The window").

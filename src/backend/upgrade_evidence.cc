@@ -44,15 +44,6 @@ FlipConsensus ConsistentFlips(const std::vector<FlipEvidence>& flips,
   return consensus;
 }
 
-int KeyframesWithFlip(const std::vector<FlipEvidence>& flips) {
-  std::vector<int> keyframes;
-  keyframes.reserve(flips.size());
-  for (const FlipEvidence& flip : flips) keyframes.push_back(flip.keyframe);
-  std::sort(keyframes.begin(), keyframes.end());
-  return static_cast<int>(std::unique(keyframes.begin(), keyframes.end()) -
-                          keyframes.begin());
-}
-
 double TwoRotationsLogOdds(int unflipped, int flipped, double confusion_rate) {
   constexpr double kLeastShare = 1.0 / 3.0;
   const int minority = std::min(unflipped, flipped);

@@ -66,9 +66,6 @@ FlipConsensus ConsistentFlips(const std::vector<FlipEvidence>& flips,
                               double gate_axis,
                               double gate_angle);
 
-// The number of distinct keyframes among `flips` (in any order).
-int KeyframesWithFlip(const std::vector<FlipEvidence>& flips);
-
 // The natural log of the odds above: `unflipped` keyframes saw the object
 // at its rotation, `flipped` at the flips' one; `confusion_rate` in
 // (0, 1/3) (the option allows (0, 0.3)).

@@ -231,18 +231,6 @@ TEST(ConsistentFlips, CountsAgreeingFlipsOncePerKeyframe) {
   EXPECT_NEAR(consensus.mean_angle, (178 + 174 + 170) / 3.0 * kDeg, 1e-12);
 }
 
-TEST(KeyframesWithFlip, CountsDistinctKeyframesInAnyOrder) {
-  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
-  EXPECT_EQ(KeyframesWithFlip({}), 0);
-  // A merged object's flips: two lists, not in keyframe order.
-  EXPECT_EQ(KeyframesWithFlip({{5, z, kPi},
-                               {3, z, kPi},
-                               {5, z, 90 * kDeg},
-                               {1, z, kPi},
-                               {3, z, kPi}}),
-            3);
-}
-
 // ln[(1/3)^m (2/3)^(n-m) / (c^m (1-c)^(n-m))], m the smaller count, n both.
 TEST(TwoRotationsLogOdds, IsTheLikelihoodRatioOfTwoRecurringRotations) {
   // m = 3, n = 6, c = 0.05: 3 ln(20/3) + 3 ln((2/3)/0.95).

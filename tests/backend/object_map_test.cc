@@ -290,6 +290,7 @@ TEST_F(ObjectMapTest, AnObjectMadeFromATurnedDetectionTurnsAndIsNotUpgraded) {
   // The view at the rotation it left is its one flip now, in its class's
   // counts too; the 19 flips that turned it are views.
   EXPECT_TRUE(object.flips.empty());
+  EXPECT_EQ(object.flip_keyframes, 0);
   EXPECT_EQ(object.flips_left_behind, 1);
   EXPECT_EQ(map_->ClassFlips("can").flip_keyframes_by_order.at(4), 1);
   EXPECT_EQ(statistics_.objects_turned, 1);

@@ -733,6 +733,40 @@ TEST(BackendSequences, OnlyARepeatedConsistentFlipUpgrades) {
   }
 }
 
+// An object made from a turned detection (the first view shows the table's
+// other pose, every later one its pose; no class prior, so each one-mode
+// detection reads as asymmetric): the later views are flips of the object
+// until 19 of them against its one view reject both its rotation and a
+// symmetry (docs/backend.md "Real detectors", 5); it then turns to their
+// rotation, its first view keeps its position only, and the rest are views
+// of it. One object, at the table's pose, no upgrade.
+TEST(BackendSequences, AnObjectMadeFromATurnedDetectionTurnsToItsViews) {
+  ScriptedSequenceSpec spec;
+  spec.objects = {Table(SymmetryType::kDiscrete, 2)};
+  spec.num_keyframes = 26;
+  spec.seed = 5;
+  spec.mode_script.assign(26, {0});
+  spec.mode_script[0] = {1};
+  const ScriptedSequence seq = GenerateScriptedSequence(spec);
+
+  BackendOptions options;
+  options.confirm_keyframes = 1;
+  std::unique_ptr<Backend> backend;
+  ASSERT_NO_FATAL_FAILURE(RunSequence(seq, options, &backend));
+  ASSERT_EQ(backend->Objects().size(), 1u);
+  const MapObjectEstimate object = backend->Objects()[0];
+  EXPECT_EQ(object.symmetry, SymmetryType::kAsymmetric);
+  EXPECT_FALSE(object.upgrade.has_value());
+  EXPECT_EQ(backend->Statistics().objects_turned, 1);
+  EXPECT_EQ(backend->Statistics().object_upgrades, 0);
+  EXPECT_EQ(backend->Statistics().rotation_outliers, 18);  // keyframes 1-18
+  EXPECT_LT(object.poses.front().q.angularDistance(spec.objects[0].T_wo.q),
+            5 * kDegree);
+  for (const DetectionAssignment& a : backend->Assignments()) {
+    EXPECT_EQ(a.object, object.id);
+  }
+}
+
 // The same for a round table whose first view is read as asymmetric (its
 // hypotheses happen to agree): the later full-circle views upgrade the
 // object to continuous, and the edges of the first view are rebuilt as

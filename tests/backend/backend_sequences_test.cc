@@ -691,18 +691,25 @@ TEST(BackendSequences, UpgradeAfterMarginalisationKeepsOneObject) {
   }
 }
 
+// A 2-fold table (seed 5) whose detection in keyframe k shows the modes
+// modes[k], one keyframe per entry.
+ScriptedSequence TableShowingModes(const std::vector<std::vector<int>>& modes) {
+  ScriptedSequenceSpec spec;
+  spec.objects = {Table(SymmetryType::kDiscrete, 2)};
+  spec.num_keyframes = static_cast<int>(modes.size());
+  spec.seed = 5;
+  spec.mode_script = modes;
+  return GenerateScriptedSequence(spec);
+}
+
 // Flips alone: a single flipped view does not upgrade the object; the same
 // flip repeated in upgrade_evidence (3) keyframes does, to discrete of
 // order 2 with angle pi, reported with its evidence.
 TEST(BackendSequences, OnlyARepeatedConsistentFlipUpgrades) {
-  ScriptedSequenceSpec spec;
-  spec.objects = {Table(SymmetryType::kDiscrete, 2)};
-  spec.num_keyframes = 8;
-  spec.seed = 5;
-  spec.mode_script = {{0}, {1}, {0}, {0}, {0}, {0}, {0}, {0}};
-  const ScriptedSequence single = GenerateScriptedSequence(spec);
-  spec.mode_script = {{0}, {1}, {0}, {1}, {0}, {1}, {0}, {0}};
-  const ScriptedSequence repeated = GenerateScriptedSequence(spec);
+  const ScriptedSequence single =
+      TableShowingModes({{0}, {1}, {0}, {0}, {0}, {0}, {0}, {0}});
+  const ScriptedSequence repeated =
+      TableShowingModes({{0}, {1}, {0}, {1}, {0}, {1}, {0}, {0}});
 
   BackendOptions options;
   options.confirm_keyframes = 1;
@@ -741,13 +748,9 @@ TEST(BackendSequences, OnlyARepeatedConsistentFlipUpgrades) {
 // rotation, its first view keeps its position only, and the rest are views
 // of it. One object, at the table's pose, no upgrade.
 TEST(BackendSequences, AnObjectMadeFromATurnedDetectionTurnsToItsViews) {
-  ScriptedSequenceSpec spec;
-  spec.objects = {Table(SymmetryType::kDiscrete, 2)};
-  spec.num_keyframes = 26;
-  spec.seed = 5;
-  spec.mode_script.assign(26, {0});
-  spec.mode_script[0] = {1};
-  const ScriptedSequence seq = GenerateScriptedSequence(spec);
+  std::vector<std::vector<int>> modes(26, {0});
+  modes[0] = {1};
+  const ScriptedSequence seq = TableShowingModes(modes);
 
   BackendOptions options;
   options.confirm_keyframes = 1;
@@ -760,7 +763,8 @@ TEST(BackendSequences, AnObjectMadeFromATurnedDetectionTurnsToItsViews) {
   EXPECT_EQ(backend->Statistics().objects_turned, 1);
   EXPECT_EQ(backend->Statistics().object_upgrades, 0);
   EXPECT_EQ(backend->Statistics().rotation_outliers, 18);  // keyframes 1-18
-  EXPECT_LT(object.poses.front().q.angularDistance(spec.objects[0].T_wo.q),
+  EXPECT_LT(object.poses.front().q.angularDistance(
+                Table(SymmetryType::kDiscrete, 2).T_wo.q),
             5 * kDegree);
   for (const DetectionAssignment& a : backend->Assignments()) {
     EXPECT_EQ(a.object, object.id);

@@ -2,7 +2,8 @@
 // sequence directory under --data (default: the vendored YCB-Video
 // sequences, data/real/ycbv/, data/real/SOURCES.md) it imports the front
 // end's trajectory and the DOPE detections into a log (symba import tum:
-// stride 5, the ground truth's first pose, odometry 5 mm / 0.01 rad),
+// stride 5, the ground truth's first pose, odometry 5 mm / 0.01 rad by default,
+// --odometry-sigma-t/-r),
 // replays it with each method (window mode, default options, one Ceres
 // thread) and scores the result against the ground truth
 // (docs/evaluation.md, "symba-real-bench"):
@@ -67,8 +68,6 @@ using symba::bench::Mean;
 using symba::bench::Median;
 
 constexpr int kStride = 5;
-constexpr double kOdometrySigmaT = 0.005;  // m
-constexpr double kOdometrySigmaR = 0.01;   // rad
 // Per method, in --methods order, in the pictures.
 constexpr const char* kColors[] = {"#1f77b4", "#ff7f0e", "#d62728"};
 
@@ -87,6 +86,9 @@ struct Flags {
   // --drift-yaw (deg per metre) and --drift-scale: the front end drifts.
   double drift_yaw_deg_per_m = 0.0;
   double drift_scale = 1.0;
+  // The noise the log states for each keyframe step of the odometry.
+  double odometry_sigma_t = 0.005;  // m
+  double odometry_sigma_r = 0.01;   // rad
   FrontEndDrift Drift() const {
     return {drift_yaw_deg_per_m * symba::kPi / 180.0, drift_scale};
   }
@@ -319,8 +321,8 @@ Status ImportSequence(const Flags& flags, const Sequence& s, std::string* log) {
   if (!status.ok()) return status;
   options.first_pose = (s.dir / "gt_T_wc.txt").string();
   options.stride = kStride;
-  options.odometry_sigma_t = kOdometrySigmaT;
-  options.odometry_sigma_r = kOdometrySigmaR;
+  options.odometry_sigma_t = flags.odometry_sigma_t;
+  options.odometry_sigma_r = flags.odometry_sigma_r;
   for (const RealObject& o : s.objects) {
     const fs::path dope = s.dir / ("dope_" + o.name + "_T_co.txt");
     if (fs::exists(dope)) options.objects.push_back({o.name, dope.string()});
@@ -635,8 +637,8 @@ std::string Json(const Flags& flags,
   JsonWriter json(&out, JsonWriter::kWrapEverything);
   json.BeginObject()
       .Member("stride", kStride)
-      .Member("odometry_sigma_t", kOdometrySigmaT)
-      .Member("odometry_sigma_r", kOdometrySigmaR)
+      .Member("odometry_sigma_t", flags.odometry_sigma_t)
+      .Member("odometry_sigma_r", flags.odometry_sigma_r)
       .Key("sequences")
       .BeginArray();
   for (std::size_t i = 0; i < sequences.size(); ++i) {
@@ -753,7 +755,7 @@ std::string Markdown(const Flags& flags,
       << "- Import: stride " << kStride
       << ", first pose = the ground truth's, odometry from the front end "
          "with sigma_t "
-      << kOdometrySigmaT << " m, sigma_r " << kOdometrySigmaR
+      << flags.odometry_sigma_t << " m, sigma_r " << flags.odometry_sigma_r
       << " rad; replay: window mode, default options.\n\n";
   out << sub << "Summary\n\n"
       << SummaryTable(flags, runs) << "\n"
@@ -889,6 +891,17 @@ int main(int argc, char** argv) {
                  flags.drift_scale,
                  "make the front end drift: scale each keyframe step's "
                  "translation by this factor (> 0)")
+      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
+      ->capture_default_str();
+  app.add_option("--odometry-sigma-t",
+                 flags.odometry_sigma_t,
+                 "the noise the log states for each keyframe step of the "
+                 "front end's odometry (m)")
+      ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
+      ->capture_default_str();
+  app.add_option("--odometry-sigma-r",
+                 flags.odometry_sigma_r,
+                 "the same for rotation (rad)")
       ->check(CLI::PositiveNumber & symba::tools::FiniteNumber())
       ->capture_default_str();
   app.add_flag("--quiet", flags.quiet, "no progress on stderr");

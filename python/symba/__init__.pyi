@@ -81,6 +81,7 @@ class BackendOptions:
     noise_window: int
     noise_min_samples: int
     noise_update_ratio: float
+    claimed_noise_tolerance: float
     uncalibrated_sigma_t: float
     uncalibrated_sigma_r: float
     scatter_min_hypotheses: int

@@ -18,10 +18,12 @@ AssociationScope DetectionScope(const DetectionInput& detection,
                                 const KeyframeState& kf,
                                 const Eigen::Vector3d& t_co,
                                 const std::optional<double>& estimated_sigma_t,
-                                const BackendOptions& options) {
+                                const BackendOptions& options,
+                                double claim_factor_t) {
   AssociationScope scope;
   scope.sigma_t = detection.sigma_t || detection.sigma_r
-                      ? detection.sigma_t.value_or(options.hypothesis_sigma_t)
+                      ? detection.sigma_t.value_or(options.hypothesis_sigma_t) *
+                            claim_factor_t
                       : estimated_sigma_t;
   scope.prediction_variance =
       kf.motion_variance_t + t_co.squaredNorm() * kf.motion_variance_r;

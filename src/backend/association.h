@@ -62,7 +62,8 @@ struct AssociationScope {
 
 // The scope of a detection in keyframe `kf` seen at t_co (confirmed
 // objects): the position noise the gates use, the detection's sigma_t (or
-// the default) where it declares a noise, else `estimated_sigma_t`: the
+// the default) times its class's claim factor (ObjectEdges::ApplyNoise)
+// where it declares a noise, else `estimated_sigma_t`: the
 // class's estimate, or the hypotheses' scatter held to the class's white
 // part (Backend::Impl::GateSigmaT; the gate wants the scatter itself, not
 // the floor of the weighting); and one motion step's variance at the
@@ -71,7 +72,8 @@ AssociationScope DetectionScope(const DetectionInput& detection,
                                 const KeyframeState& kf,
                                 const Eigen::Vector3d& t_co,
                                 const std::optional<double>& estimated_sigma_t,
-                                const BackendOptions& options);
+                                const BackendOptions& options,
+                                double claim_factor_t = 1.0);
 
 // The position gate (m) of `object` for a detection in `scope`:
 // min(gate_position, gate_sigmas * sqrt(sigma_t^2 (1 + 1/n) +

@@ -66,6 +66,9 @@ std::vector<ClassNoiseEstimate> Backend::Impl::Noise() const {
     c.translation = noise.TranslationReport(name);
     c.rotation = noise.RotationReport(name);
     c.scatter = noise.ScatterReport(name);
+    c.claims = noise.ClaimsReport(name);
+    c.claims.factor_t = used.claim_scale_t.value_or(1.0);
+    c.claims.factor_r = used.claim_scale_r.value_or(1.0);
     classes.push_back(std::move(c));
   }
   return classes;

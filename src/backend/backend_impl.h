@@ -82,6 +82,14 @@ class Backend::Impl {
                     const CategorizedDetection* categorized,
                     const std::optional<HypothesisScatter>& scatter,
                     const std::string& detection_id);
+  // What a declared sigma_t of the class is multiplied by (1: the claims
+  // hold; ObjectEdges::ApplyNoise).
+  double ClaimFactorT(const std::string& class_name) const;
+  // A detection that declares its sigma, as a test of the claim
+  // (claim_pairs.h).
+  void SampleClaim(int k,
+                   const DetectionInput& detection,
+                   const CategorizedDetection* categorized);
   int AddSingleOrMultiHypothesis(
       int k,
       const DetectionInput& detection,

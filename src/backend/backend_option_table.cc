@@ -226,6 +226,13 @@ void AppendRealDetectorOptions(OptionTable<BackendOptions>* table) {
                           AtLeast(1.0),
                           "change of a class's noise estimate that rebuilds "
                           "its edges"),
+          DoubleOption<O>("claimed_noise_tolerance",
+                          &O::claimed_noise_tolerance,
+                          "",
+                          AtLeast(1.0),
+                          "with estimate_noise: the factor by which a class's "
+                          "frame-to-frame changes may exceed its declared "
+                          "sigmas before they are scaled"),
           DoubleOption<O>("uncalibrated_sigma_t",
                           &O::uncalibrated_sigma_t,
                           "m",

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace symba::internal {
 
@@ -122,11 +123,85 @@ ClassNoiseEstimate::Scatter DetectionNoiseEstimator::ScatterReport(
   return report;
 }
 
+void ClaimSamples::Add(double change_squared,
+                       double claimed_variance,
+                       double step_variance) {
+  const Sample sample{change_squared, claimed_variance, step_variance};
+  if (static_cast<int>(samples_.size()) < window_) {
+    samples_.push_back(sample);
+    return;
+  }
+  samples_[next_] = sample;
+  next_ = (next_ + 1) % samples_.size();
+}
+
+double ClaimSamples::MedianRatio(double f) const {
+  scratch_.clear();
+  for (const Sample& s : samples_) {
+    const double variance = f * f * s.claimed_variance + s.step_variance;
+    scratch_.push_back(variance > 0.0 ? std::sqrt(s.change_squared / variance)
+                                      : std::numeric_limits<double>::max());
+  }
+  return MedianInPlace(&scratch_);
+}
+
+double ClaimSamples::Scale() const {
+  // The median ratio falls as f grows: bisect in log f between bounds that
+  // hold it, 0 where the steps alone leave it below the chi median.
+  constexpr double kLow = 1e-3;
+  constexpr double kHigh = 1e3;
+  if (MedianRatio(kLow) <= kChi3Median) return 0.0;
+  if (MedianRatio(kHigh) >= kChi3Median) return kHigh;
+  double low = std::log(kLow);
+  double high = std::log(kHigh);
+  for (int i = 0; i < 50; ++i) {
+    const double mid = 0.5 * (low + high);
+    (MedianRatio(std::exp(mid)) > kChi3Median ? low : high) = mid;
+  }
+  return std::exp(0.5 * (low + high));
+}
+
+void DetectionNoiseEstimator::AddClaimPair(const std::string& class_name,
+                                           Component component,
+                                           double change_squared,
+                                           double claimed_variance,
+                                           double step_variance) {
+  auto& claims = component == Component::kTranslation ? claim_t_ : claim_r_;
+  claims.try_emplace(class_name, window_)
+      .first->second.Add(change_squared, claimed_variance, step_variance);
+}
+
+std::optional<double> DetectionNoiseEstimator::ClaimScale(
+    const std::map<std::string, ClaimSamples>& claims,
+    const std::string& class_name) const {
+  const auto it = claims.find(class_name);
+  if (it == claims.end() || it->second.size() < min_samples_) {
+    return std::nullopt;
+  }
+  return it->second.Scale();
+}
+
+ClassNoiseEstimate::Claims DetectionNoiseEstimator::ClaimsReport(
+    const std::string& class_name) const {
+  ClassNoiseEstimate::Claims report;
+  if (const auto it = claim_t_.find(class_name); it != claim_t_.end()) {
+    report.translation_samples = it->second.size();
+  }
+  if (const auto it = claim_r_.find(class_name); it != claim_r_.end()) {
+    report.rotation_samples = it->second.size();
+  }
+  report.scale_t = ClaimScale(claim_t_, class_name);
+  report.scale_r = ClaimScale(claim_r_, class_name);
+  return report;
+}
+
 std::vector<std::string> DetectionNoiseEstimator::Classes() const {
   std::vector<std::string> names;
   for (const auto& [name, scales] : translation_) names.push_back(name);
   for (const auto& [name, scales] : rotation_) names.push_back(name);
   for (const auto& [name, scales] : scatter_) names.push_back(name);
+  for (const auto& [name, scales] : claim_t_) names.push_back(name);
+  for (const auto& [name, scales] : claim_r_) names.push_back(name);
   std::sort(names.begin(), names.end());
   names.erase(std::unique(names.begin(), names.end()), names.end());
   return names;
@@ -141,6 +216,8 @@ ClassNoise DetectionNoiseEstimator::Estimate(
   if (auto r = Sigma(rotation_, class_name)) {
     noise.sigma_r = std::max(kMinSigmaR, *r);
   }
+  noise.claim_scale_t = ClaimScale(claim_t_, class_name);
+  noise.claim_scale_r = ClaimScale(claim_r_, class_name);
   // The white part holds the detections weighed by their scatter: a
   // class without any has none.
   if (scatter_.count(class_name) == 0) return noise;

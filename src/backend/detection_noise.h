@@ -28,6 +28,15 @@
 // (independent errors: sigma = sigma_L). The medians ignore the few gross
 // outliers a real detector has. An estimate exists once `min_samples`
 // levels do (without increments rho = 0); it is never below kMinSigmaT/R.
+//
+// Claims: for detections that declare their sigma, a change d between two
+// of them in consecutive keyframes has, per axis, the variance
+// f^2 (sigma_a^2 + sigma_b^2) + s^2 (s^2 the step's motion variance), f = 1
+// when the claims hold (ClaimPairs makes the samples). The claim scale is
+// the f that makes the changes chi-square consistent, the median of
+//   |d| / sqrt(f^2 (sigma_a^2 + sigma_b^2) + s^2)
+// equal to 1.5382 (found by bisection: the median falls as f grows); 0
+// where the steps alone explain the changes.
 #ifndef SYMBA_SRC_BACKEND_DETECTION_NOISE_H_
 #define SYMBA_SRC_BACKEND_DETECTION_NOISE_H_
 
@@ -47,6 +56,32 @@ inline constexpr double kMinSigmaT = 1e-3;  // m
 inline constexpr double kMinSigmaR = 1e-3;  // rad
 // The largest correlation of consecutive errors the estimate believes.
 inline constexpr double kMaxCorrelation = 0.98;
+
+// The last `window` pairs of a class's claimed detections (see above): |d|^2,
+// sigma_a^2 + sigma_b^2 and s^2.
+class ClaimSamples {
+ public:
+  explicit ClaimSamples(int window) : window_(window) {}
+  void Add(double change_squared,
+           double claimed_variance,
+           double step_variance);
+  int size() const { return static_cast<int>(samples_.size()); }
+  // The claim scale f (see above); the samples must not be empty.
+  double Scale() const;
+
+ private:
+  struct Sample {
+    double change_squared;
+    double claimed_variance;
+    double step_variance;
+  };
+  double MedianRatio(double f) const;
+
+  int window_;
+  std::vector<Sample> samples_;  // a ring once full
+  size_t next_ = 0;
+  mutable std::vector<double> scratch_;
+};
 
 // The median of the last `window` values added, over kChi3Median.
 class RobustScale {
@@ -80,6 +115,11 @@ struct ClassNoise {
   // scatter (what those are held to).
   std::optional<double> white_sigma_t;  // m
   std::optional<double> white_sigma_r;  // rad
+  // The claim scale, once there are min_samples claim ratios (see above).
+  // In the noise applied to edges (ObjectEdges::ApplyNoise): the factor a
+  // claimed sigma is multiplied by.
+  std::optional<double> claim_scale_t;
+  std::optional<double> claim_scale_r;
 };
 
 // What one kind of sample (translation or rotation) of a class says: the
@@ -106,8 +146,16 @@ class DetectionNoiseEstimator {
   void AddScatter(const std::string& class_name,
                   double sigma_t,
                   double sigma_r);
+  // One pair of claimed detections (see above), translation or rotation.
+  enum class Component { kTranslation, kRotation };
+  void AddClaimPair(const std::string& class_name,
+                    Component component,
+                    double change_squared,
+                    double claimed_variance,
+                    double step_variance);
   ClassNoiseEstimate::Scatter ScatterReport(
       const std::string& class_name) const;
+  ClassNoiseEstimate::Claims ClaimsReport(const std::string& class_name) const;
   // The classes with samples, sorted.
   std::vector<std::string> Classes() const;
 
@@ -132,12 +180,26 @@ class DetectionNoiseEstimator {
     RobustScale sigma_r;
   };
 
+  std::optional<double> ClaimScale(
+      const std::map<std::string, ClaimSamples>& claims,
+      const std::string& class_name) const;
+
   int window_;
   int min_samples_;
   std::map<std::string, Scales> translation_;
   std::map<std::string, Scales> rotation_;
   std::map<std::string, ScatterScales> scatter_;
+  std::map<std::string, ClaimSamples> claim_t_;
+  std::map<std::string, ClaimSamples> claim_r_;
 };
+
+// The sigma a claimed detection is weighed with: its own, times the claim
+// scale where that exceeds `tolerance` (the data contradicts the claim).
+inline double ClaimedSigma(double claimed,
+                           const std::optional<double>& scale,
+                           double tolerance) {
+  return scale && *scale > tolerance ? claimed * *scale : claimed;
+}
 
 // The noise an edge is built with: a detection's own sigma (the detector's
 // word) where it gives one; otherwise the larger of `given` (the options'

@@ -63,6 +63,10 @@ std::optional<double> Backend::Impl::GateSigmaT(
       scatter ? std::optional<double>(scatter->sigma_t) : std::nullopt);
 }
 
+double Backend::Impl::ClaimFactorT(const std::string& class_name) const {
+  return edges_.AppliedNoise(class_name).claim_scale_t.value_or(1.0);
+}
+
 void Backend::Impl::AddDetection(
     int k,
     const DetectionInput& detection,
@@ -89,6 +93,35 @@ void Backend::Impl::AddDetection(
                      categorized != nullptr
                          ? categorized->t_co
                          : detection.hypotheses.front().T_co.t);
+  if (options_.estimate_noise && (detection.sigma_t || detection.sigma_r)) {
+    SampleClaim(k, detection, categorized);
+  }
+}
+
+void Backend::Impl::SampleClaim(int k,
+                                const DetectionInput& detection,
+                                const CategorizedDetection* categorized) {
+  const KeyframeState& kf = *trajectory_.keyframes()[k];
+  // Where the categorisation put it (its base rotation only when
+  // asymmetric: a symmetric one's rotation is not one pose); a baseline's
+  // detection by its first hypothesis.
+  const Rigid3d& first = detection.hypotheses.front().T_co;
+  const Eigen::Vector3d t_co =
+      categorized != nullptr ? categorized->t_co : first.t;
+  std::optional<Eigen::Quaterniond> R_co;
+  if (categorized == nullptr) {
+    R_co = first.q;
+  } else if (categorized->type == SymmetryType::kAsymmetric) {
+    R_co = categorized->T_co_base.q;
+  }
+  internal::ClaimedDetection claimed;
+  claimed.class_name = detection.class_name;
+  claimed.p_w = kf.T_wc_chain * t_co;
+  if (R_co) claimed.R_w = (kf.T_wc_chain.q * *R_co).normalized();
+  claimed.sigma_t = detection.sigma_t;
+  claimed.sigma_r = detection.sigma_r;
+  claimed.distance = t_co.norm();
+  map_.SampleClaim(k, claimed, kf.motion_variance_t, kf.motion_variance_r);
 }
 
 int Backend::Impl::AddSingleOrMultiHypothesis(
@@ -111,7 +144,8 @@ int Backend::Impl::AddSingleOrMultiHypothesis(
                                kf,
                                six_dof.observation.T_co_best.t,
                                GateSigmaT(detection.class_name, scatter),
-                               options_);
+                               options_,
+                               ClaimFactorT(detection.class_name));
   int o = internal::FindSixDofMatch(
       map_.objects(), detection.class_name, T_wo_candidates, scope, options_);
   if (o < 0) {
@@ -152,7 +186,8 @@ int Backend::Impl::AddSymba(int k,
                                kf,
                                cat.t_co,
                                GateSigmaT(detection.class_name, scatter),
-                               options_);
+                               options_,
+                               ClaimFactorT(detection.class_name));
   auto find = [&]() {
     return internal::FindSymbaMatch(map_.objects(),
                                     T_wc,

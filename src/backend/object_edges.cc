@@ -154,7 +154,25 @@ bool ObjectEdges::ApplyNoise(const std::string& class_name,
                                      ratio,
                                      &applied.white_sigma_t,
                                      &applied.white_sigma_r);
-  return estimate_moved || white_moved;
+  // A claim's factor: the claim scale where it exceeds the tolerance,
+  // else 1 (an applied factor of none is 1).
+  const double tolerance = options_.claimed_noise_tolerance;
+  const auto factor = [tolerance](const std::optional<double>& scale) {
+    return std::optional<double>(ClaimedSigma(1.0, scale, tolerance));
+  };
+  const auto or_one = [](const std::optional<double>& applied) {
+    return std::optional<double>(applied.value_or(1.0));
+  };
+  const std::optional<double> factor_t = factor(estimate.claim_scale_t);
+  const std::optional<double> factor_r = factor(estimate.claim_scale_r);
+  const bool claims_moved =
+      Moved(factor_t, or_one(applied.claim_scale_t), ratio) ||
+      Moved(factor_r, or_one(applied.claim_scale_r), ratio);
+  if (claims_moved) {
+    applied.claim_scale_t = factor_t;
+    applied.claim_scale_r = factor_r;
+  }
+  return estimate_moved || white_moved || claims_moved;
 }
 
 EdgeSigmas EffectiveNoise(const ObjectObservation& observation,
@@ -163,10 +181,17 @@ EdgeSigmas EffectiveNoise(const ObjectObservation& observation,
     return {EffectiveSigma(observation.sigma_t, false, applied.white_sigma_t),
             EffectiveSigma(observation.sigma_r, false, applied.white_sigma_r)};
   }
-  return {EffectiveSigma(
-              observation.sigma_t, observation.claimed_t, applied.sigma_t),
-          EffectiveSigma(
-              observation.sigma_r, observation.claimed_r, applied.sigma_r)};
+  // A claim times its class's claim factor (ApplyNoise); else the larger
+  // of the floor and the estimate.
+  const double sigma_t =
+      observation.claimed_t
+          ? observation.sigma_t * applied.claim_scale_t.value_or(1.0)
+          : EffectiveSigma(observation.sigma_t, false, applied.sigma_t);
+  const double sigma_r =
+      observation.claimed_r
+          ? observation.sigma_r * applied.claim_scale_r.value_or(1.0)
+          : EffectiveSigma(observation.sigma_r, false, applied.sigma_r);
+  return {sigma_t, sigma_r};
 }
 
 ClassNoise ObjectEdges::AppliedNoise(const std::string& class_name) const {

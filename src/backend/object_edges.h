@@ -34,7 +34,8 @@ struct EdgeSigmas {
 };
 
 // The sigmas an observation's edge is weighed with once its class has an
-// applied noise (EffectiveSigma): its detection's claim as given; its
+// applied noise (EffectiveSigma): its detection's claim times the class's
+// claim factor (1 unless the data contradicts the claims); its
 // hypotheses' scatter held to the class's frame-to-frame noise; otherwise
 // the larger of the floor and the class's estimate.
 EdgeSigmas EffectiveNoise(const ObjectObservation& observation,

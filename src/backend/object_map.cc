@@ -23,7 +23,8 @@ ObjectMap::ObjectMap(const BackendOptions& options,
       graph_(graph),
       statistics_(statistics),
       assignments_(assignments),
-      noise_(options.noise_window, options.noise_min_samples) {}
+      noise_(options.noise_window, options.noise_min_samples),
+      claim_pairs_(options.gate_position, options.gate_rotation) {}
 
 const ClassPrior* ObjectMap::PriorOf(const std::string& class_name) const {
   const auto it = class_priors_.find(class_name);

@@ -17,6 +17,7 @@
 
 #include "backend/association.h"
 #include "backend/backend_state.h"
+#include "backend/claim_pairs.h"
 #include "backend/detection_noise.h"
 #include "backend/factor_graph.h"
 #include "backend/upgrade_evidence.h"
@@ -110,6 +111,16 @@ class ObjectMap {
                    const Eigen::Vector3d& t_co,
                    const std::optional<Eigen::Quaterniond>& R_co);
 
+  // A detection of keyframe k that declares its sigma, as a sample of its
+  // class's claim scale (claim_pairs.h); the step's motion variance is
+  // keyframe k's.
+  void SampleClaim(int k,
+                   const ClaimedDetection& detection,
+                   double step_variance_t,
+                   double step_variance_r) {
+    claim_pairs_.Add(k, detection, step_variance_t, step_variance_r, &noise_);
+  }
+
   // A detection of `class_name` weighed by its hypotheses' scatter, for
   // the noise report.
   void NoteScatter(const std::string& class_name,
@@ -201,6 +212,7 @@ class ObjectMap {
   double view_cone_cos_ = 1.0;  // cos of the widest detection bearing
   double view_depth_ = 0.0;     // the largest detection distance (m)
   DetectionNoiseEstimator noise_;
+  ClaimPairs claim_pairs_;
 };
 
 }  // namespace symba::internal

@@ -150,7 +150,8 @@ Status Backend::Impl::LoadMap(const SavedMap& map) {
   });
   for (const MapObjectEstimate* o : by_id) map_.Load(*o);
   for (const SavedClassNoise& n : map.noise) {
-    // The white parts are learned again (the map format has none).
+    // The white parts and the claim factors are learned again (the map
+    // format has none).
     internal::ClassNoise noise;
     noise.sigma_t = n.sigma_t;
     noise.sigma_r = n.sigma_r;

@@ -69,7 +69,17 @@ void WriteNoise(const std::vector<ClassNoiseEstimate>& noise,
         .Member("detections", c.scatter.detections);
     OptionalMember("sigma_t", c.scatter.sigma_t, json);
     OptionalMember("sigma_r", c.scatter.sigma_r, json);
-    json->EndObject().EndObject();
+    json->EndObject();
+    json->Key("claims")
+        .BeginObject()
+        .Member("translation_samples", c.claims.translation_samples)
+        .Member("rotation_samples", c.claims.rotation_samples);
+    OptionalMember("scale_t", c.claims.scale_t, json);
+    OptionalMember("scale_r", c.claims.scale_r, json);
+    json->Member("factor_t", c.claims.factor_t)
+        .Member("factor_r", c.claims.factor_r)
+        .EndObject()
+        .EndObject();
   }
   json->EndArray();
 }

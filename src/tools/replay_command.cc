@@ -77,6 +77,7 @@ constexpr FlagAlias kFlagAliases[] = {
     {"tentative_timeout", "--tentative-timeout"},
     {"gate_sigmas", "--gate-sigmas"},
     {"estimate_noise", "--estimate-noise"},
+    {"claimed_noise_tolerance", "--claimed-noise-tolerance"},
     {"uncalibrated_sigma_t", "--uncalibrated-sigma-t"},
     {"uncalibrated_sigma_r", "--uncalibrated-sigma-r"},
     {"min_support", "--min-support"},

@@ -6,12 +6,14 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
 #include "backend/association.h"
+#include "backend/claim_pairs.h"
 #include "backend/detection_noise.h"
 #include "backend/detection_observations.h"
 #include "backend/upgrade_evidence.h"
@@ -59,6 +61,91 @@ TEST(CorrelatedSigma, InflatesCorrelatedErrorsByTheirEffectiveCount) {
   EXPECT_DOUBLE_EQ(CorrelatedSigma(0.1, 0.2), 0.1);
   // No increment: rho clamps at 0.98, factor sqrt(1.98 / 0.02) = sqrt(99).
   EXPECT_DOUBLE_EQ(CorrelatedSigma(0.1, 0.0), 0.1 * std::sqrt(99.0));
+}
+
+// The claim scale f makes the median of |d| / sqrt(f^2 c + s) the chi
+// median: samples built so that f = 2 holds exactly give 2; samples the
+// steps alone explain give 0.
+TEST(ClaimSamples, TheScaleMakesTheChangesChiSquareConsistent) {
+  ClaimSamples samples(10);
+  for (const auto& [c, s] :
+       {std::pair{1e-4, 0.0}, std::pair{4e-4, 1e-4}, std::pair{1e-4, 3e-4}}) {
+    samples.Add(kChi3Median * kChi3Median * (4.0 * c + s), c, s);
+  }
+  EXPECT_NEAR(samples.Scale(), 2.0, 1e-9);
+  ClaimSamples steps(10);
+  for (int i = 0; i < 3; ++i) steps.Add(1e-4, 1e-4, 1.0);
+  EXPECT_EQ(steps.Scale(), 0.0);
+  // The window keeps the last 10: ten pairs at f = 5 outvote the rest.
+  for (int i = 0; i < 10; ++i) {
+    samples.Add(kChi3Median * kChi3Median * 25.0 * 1e-4, 1e-4, 0.0);
+  }
+  EXPECT_EQ(samples.size(), 10);
+  EXPECT_NEAR(samples.Scale(), 5.0, 1e-9);
+}
+
+// A claimed detection pairs with the nearest one of its class in the
+// previous keyframe: the change, the claims' variances and the step's
+// (translation: s_t^2 + d^2 s_r^2) go into its class's claim scale, here
+// from one pair (min_samples 1), so f solves f^2 c + s = |d|^2 / 1.5382^2.
+TEST(ClaimPairs, PairsConsecutiveKeyframesOfAClassByDistance) {
+  DetectionNoiseEstimator noise(100, 1);
+  ClaimPairs pairs(0.5, 0.5);
+  ClaimedDetection a;
+  a.class_name = "box";
+  a.p_w = Eigen::Vector3d(1.0, 0.0, 0.0);
+  a.R_w = Eigen::Quaterniond::Identity();
+  a.sigma_t = 0.01;
+  a.sigma_r = 0.02;
+  a.distance = 2.0;
+  ClaimedDetection far = a;  // another box, 0.4 m from b
+  far.p_w = Eigen::Vector3d(1.5, 0.0, 0.0);
+  ClaimedDetection can = a;
+  can.class_name = "can";
+  pairs.Add(3, a, 0.0, 0.0, &noise);
+  pairs.Add(3, far, 0.0, 0.0, &noise);
+  pairs.Add(3, can, 0.0, 0.0, &noise);
+  EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 0);
+  ClaimedDetection b = a;
+  b.p_w = Eigen::Vector3d(1.1, 0.0, 0.0);
+  b.R_w = Eigen::Quaterniond(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()));
+  b.sigma_t = 0.02;
+  const double s_t2 = 1e-6;
+  const double s_r2 = 4e-6;
+  pairs.Add(4, b, s_t2, s_r2, &noise);
+  const ClassNoiseEstimate::Claims claims = noise.ClaimsReport("box");
+  EXPECT_EQ(claims.translation_samples, 1);
+  EXPECT_EQ(claims.rotation_samples, 1);
+  const double chi2 = kChi3Median * kChi3Median;
+  // Nearest: a at 0.1 m (not `far` at 0.4 m).
+  const double f_t = std::sqrt((0.01 / chi2 - (s_t2 + 4.0 * s_r2)) /
+                               (0.01 * 0.01 + 0.02 * 0.02));
+  const double f_r =
+      std::sqrt((0.01 / chi2 - s_r2) / (0.02 * 0.02 + 0.02 * 0.02));
+  EXPECT_NEAR(*claims.scale_t, f_t, 1e-6 * f_t);
+  EXPECT_NEAR(*claims.scale_r, f_r, 1e-6 * f_r);
+  EXPECT_EQ(noise.ClaimsReport("can").translation_samples, 0);
+
+  // Not consecutive (keyframe 6 after 4): no pair; a rotation pair turned
+  // beyond max_angle gives a translation sample only; beyond max_distance
+  // there is no pair.
+  pairs.Add(6, a, 0.0, 0.0, &noise);
+  ClaimedDetection turned = a;
+  turned.R_w =
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.6, Eigen::Vector3d::UnitZ()));
+  pairs.Add(7, turned, 0.0, 0.0, &noise);
+  EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 2);
+  EXPECT_EQ(noise.ClaimsReport("box").rotation_samples, 1);
+  ClaimedDetection away = a;
+  away.p_w = Eigen::Vector3d(1.0, 0.6, 0.0);
+  pairs.Add(8, away, 0.0, 0.0, &noise);
+  EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 2);
+  // An unclaimed component gives no sample.
+  ClaimedDetection unclaimed = away;
+  unclaimed.sigma_r.reset();
+  pairs.Add(9, unclaimed, 0.0, 0.0, &noise);
+  EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 3);
+  EXPECT_EQ(noise.ClaimsReport("box").rotation_samples, 1);
 }
 
 TEST(DetectionNoiseEstimator, EstimatesPerClassOnceThereAreEnoughSamples) {

@@ -229,5 +229,35 @@ TEST_F(ObjectEdgesTest, EdgesWeighWithTheEstimateUnlessTheDetectionClaims) {
   EXPECT_NEAR(TranslationResidual(2), 0.1 / 0.02, 1e-9);
 }
 
+// claimed_noise_tolerance 1.5: a claim scale of 1.4 leaves claimed
+// observations as they claimed (nothing to rebuild), one of 4 weighs them
+// four times their claim and moves the gate's factor; unclaimed ones are
+// untouched.
+TEST_F(ObjectEdgesTest, AClaimContradictedBeyondTheToleranceIsScaled) {
+  edges_.Add(0, Observation(0.05, 0.02, true));
+  edges_.Add(0, Observation(0.05, 0.2, false));
+  ClassNoise noise = Noise(0.1, 0.2);
+  noise.claim_scale_t = 1.4;
+  noise.claim_scale_r = 1.4;
+  ASSERT_TRUE(edges_.ApplyNoise("box", noise));  // the estimate is new
+  EXPECT_FALSE(edges_.AppliedNoise("box").claim_scale_t.has_value());  // 1
+  edges_.Rebuild(0);
+  EXPECT_NEAR(TranslationResidual(0), 0.1 / 0.02, 1e-9);
+  noise.claim_scale_t = 4.0;
+  ASSERT_TRUE(edges_.ApplyNoise("box", noise));
+  EXPECT_EQ(edges_.AppliedNoise("box").claim_scale_t, 4.0);
+  EXPECT_EQ(edges_.AppliedNoise("box").claim_scale_r, 1.0);
+  edges_.Rebuild(0);
+  EXPECT_NEAR(TranslationResidual(0), 0.1 / 0.08, 1e-9);
+  EXPECT_NEAR(TranslationResidual(1), 0.1 / 0.2, 1e-9);
+  const EdgeSigmas sigmas =
+      EffectiveNoise(Observation(0.05, 0.02, true), edges_.AppliedNoise("box"));
+  EXPECT_DOUBLE_EQ(sigmas.t, 0.08);
+  EXPECT_DOUBLE_EQ(sigmas.r, 0.1);
+  // Within noise_update_ratio of the applied factor: nothing moves.
+  noise.claim_scale_t = 4.4;
+  EXPECT_FALSE(edges_.ApplyNoise("box", noise));
+}
+
 }  // namespace
 }  // namespace symba::internal

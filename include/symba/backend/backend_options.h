@@ -164,11 +164,20 @@ struct BackendOptions {
   // noise_min_samples on; docs/backend.md "Real detectors", 3) and build its
   // edges with it; a class's edges are rebuilt when its estimate moves by
   // more than the factor noise_update_ratio. A detection that gives its own
-  // sigma is weighed with it as given.
+  // sigma is weighed with it as given, unless its class's frame-to-frame
+  // changes contradict the claim (below).
   bool estimate_noise = true;
   int noise_window = 500;
   int noise_min_samples = 20;
   double noise_update_ratio = 1.25;
+  // With estimate_noise, a declared sigma is a prior the data can overrule:
+  // the changes between a class's claimed detections in consecutive
+  // keyframes (where the front end alone puts them), each over what the
+  // two claims and the step's motion noise predict, give the class's claim
+  // scale (robust, like the estimate); from noise_min_samples on, a scale
+  // above claimed_noise_tolerance multiplies every claimed sigma of the
+  // class (docs/backend.md "Real detectors", 4).
+  double claimed_noise_tolerance = 1.5;
   // With estimate_noise, a detection that gives no sigma is weighed with
   // max(estimate, uncalibrated_sigma) instead of hypothesis_sigma: errors
   // that persist over many frames (a bias) cannot be told from camera

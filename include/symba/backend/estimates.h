@@ -127,6 +127,23 @@ struct ClassNoiseEstimate {
     std::optional<double> sigma_r;  // rad
   };
   Scatter scatter;
+  // The detections of the class that declare their sigma
+  // (BackendOptions::claimed_noise_tolerance): how many pairs in
+  // consecutive keyframes measured the claims, and the claim scales, the
+  // robust scale of |change| / (what the claims and the step's motion
+  // noise predict), about 1 when the claims hold (nullopt below
+  // noise_min_samples). Where a scale exceeds the tolerance, the class's
+  // claimed sigmas are weighed times it: factor_t, factor_r are what the
+  // edges were last built with (1: as claimed).
+  struct Claims {
+    int translation_samples = 0;
+    int rotation_samples = 0;
+    std::optional<double> scale_t;
+    std::optional<double> scale_r;
+    double factor_t = 1.0;
+    double factor_r = 1.0;
+  };
+  Claims claims;
 };
 
 }  // namespace symba

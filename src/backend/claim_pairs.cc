@@ -1,0 +1,62 @@
+#include "backend/claim_pairs.h"
+
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace symba::internal {
+
+const ClaimedDetection* ClaimPairs::Nearest(
+    const ClaimedDetection& detection) const {
+  const ClaimedDetection* nearest = nullptr;
+  double best = max_distance_;
+  for (const ClaimedDetection& other : previous_) {
+    if (other.class_name != detection.class_name) continue;
+    const double d = (other.p_w - detection.p_w).norm();
+    if (d <= best) {
+      best = d;
+      nearest = &other;
+    }
+  }
+  return nearest;
+}
+
+void ClaimPairs::Add(int k,
+                     const ClaimedDetection& detection,
+                     double step_variance_t,
+                     double step_variance_r,
+                     DetectionNoiseEstimator* noise) {
+  if (k != keyframe_) {
+    previous_ = std::move(current_);
+    current_.clear();
+    previous_keyframe_ = keyframe_;
+    keyframe_ = k;
+  }
+  current_.push_back(detection);
+  if (previous_keyframe_ != k - 1) return;
+  const ClaimedDetection* a = Nearest(detection);
+  if (a == nullptr) return;
+  using Component = DetectionNoiseEstimator::Component;
+  if (a->sigma_t && detection.sigma_t) {
+    noise->AddClaimPair(
+        detection.class_name,
+        Component::kTranslation,
+        (detection.p_w - a->p_w).squaredNorm(),
+        *a->sigma_t * *a->sigma_t + *detection.sigma_t * *detection.sigma_t,
+        step_variance_t +
+            detection.distance * detection.distance * step_variance_r);
+  }
+  if (a->sigma_r && detection.sigma_r && a->R_w && detection.R_w) {
+    const double angle = a->R_w->angularDistance(*detection.R_w);
+    if (angle <= max_angle_) {
+      noise->AddClaimPair(
+          detection.class_name,
+          Component::kRotation,
+          angle * angle,
+          *a->sigma_r * *a->sigma_r + *detection.sigma_r * *detection.sigma_r,
+          step_variance_r);
+    }
+  }
+}
+
+}  // namespace symba::internal

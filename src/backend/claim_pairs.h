@@ -1,0 +1,69 @@
+// The samples that test a detector's declared noise (detection_noise.h,
+// "Claims"): each detection that declares a sigma is paired with the
+// nearest detection of its class that declared one in the previous
+// keyframe, both where the front end alone puts them (the chained poses).
+// Between consecutive keyframes the front end's drift is one step's, which
+// the step's motion noise states, so a change far beyond what the claims
+// and that step predict is the detector's own frame-to-frame noise. Each
+// pair gives, for translation, |p_b - p_a|^2, sigma_t,a^2 + sigma_t,b^2 and
+// s_t^2 + d^2 s_r^2, and for rotation angle(R_a^T R_b)^2, sigma_r,a^2 +
+// sigma_r,b^2 and s_r^2 (p world positions in m, R world rotations of
+// asymmetric detections, d the later detection's distance to its camera in
+// m, s_t^2, s_r^2 the step's motion variance per axis). Pairing by class and distance, not by
+// map object, keeps the test working when a detector that claims too little
+// noise fails every association gate. A pair farther apart than
+// `max_distance` is not taken (two instances of a class, or an outlier),
+// nor a rotation pair turned by more than `max_angle` (a flip between the
+// modes of a symmetric object, or an outlier: a change of mode, not noise).
+#ifndef SYMBA_SRC_BACKEND_CLAIM_PAIRS_H_
+#define SYMBA_SRC_BACKEND_CLAIM_PAIRS_H_
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "backend/detection_noise.h"
+
+namespace symba::internal {
+
+struct ClaimedDetection {
+  std::string class_name;
+  Eigen::Vector3d p_w = Eigen::Vector3d::Zero();  // m, front end's world
+  std::optional<Eigen::Quaterniond> R_w;          // asymmetric only
+  std::optional<double> sigma_t;                  // m, as declared
+  std::optional<double> sigma_r;                  // rad, as declared
+  double distance = 0.0;                          // m, |t_co|
+};
+
+class ClaimPairs {
+ public:
+  ClaimPairs(double max_distance, double max_angle)
+      : max_distance_(max_distance), max_angle_(max_angle) {}
+
+  // A detection of keyframe (index) k, whose motion step from k - 1 has the
+  // variances step_variance_t (m^2) and step_variance_r (rad^2) per axis.
+  // Keyframes come in increasing order; the ratios of its pair, if any, go
+  // to `noise`.
+  void Add(int k,
+           const ClaimedDetection& detection,
+           double step_variance_t,
+           double step_variance_r,
+           DetectionNoiseEstimator* noise);
+
+ private:
+  const ClaimedDetection* Nearest(const ClaimedDetection& detection) const;
+
+  double max_distance_;  // m
+  double max_angle_;     // rad
+  int keyframe_ = -1;
+  int previous_keyframe_ = -1;
+  std::vector<ClaimedDetection> current_;
+  std::vector<ClaimedDetection> previous_;
+};
+
+}  // namespace symba::internal
+
+#endif  // SYMBA_SRC_BACKEND_CLAIM_PAIRS_H_

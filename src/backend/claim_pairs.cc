@@ -23,8 +23,7 @@ const ClaimedDetection* ClaimPairs::Nearest(
 
 void ClaimPairs::Add(int k,
                      const ClaimedDetection& detection,
-                     double step_variance_t,
-                     double step_variance_r,
+                     const std::optional<StepVariance>& step,
                      DetectionNoiseEstimator* noise) {
   if (k != keyframe_) {
     previous_ = std::move(current_);
@@ -33,7 +32,9 @@ void ClaimPairs::Add(int k,
     keyframe_ = k;
   }
   current_.push_back(detection);
-  if (previous_keyframe_ != k - 1) return;
+  if (previous_keyframe_ != k - 1 || !step) return;
+  const double step_variance_t = step->t;
+  const double step_variance_r = step->r;
   const ClaimedDetection* a = Nearest(detection);
   if (a == nullptr) return;
   using Component = DetectionNoiseEstimator::Component;

@@ -38,19 +38,25 @@ struct ClaimedDetection {
   double distance = 0.0;                          // m, |t_co|
 };
 
+struct StepVariance {
+  double t = 0.0;  // m^2
+  double r = 0.0;  // rad^2
+};
+
 class ClaimPairs {
  public:
   ClaimPairs(double max_distance, double max_angle)
       : max_distance_(max_distance), max_angle_(max_angle) {}
 
-  // A detection of keyframe (index) k, whose motion step from k - 1 has the
-  // variances step_variance_t (m^2) and step_variance_r (rad^2) per axis.
-  // Keyframes come in increasing order; the ratios of its pair, if any, go
-  // to `noise`.
+  // A detection of keyframe (index) k. `step`: the variances (per axis)
+  // of the motion factor from keyframe k - 1 to k; none when keyframe k's
+  // motion factor starts elsewhere (a front-end pose after keyframes
+  // without one): the change from k - 1 then holds steps no variance
+  // states, and the detection is kept only to pair with keyframe k + 1's.
+  // Keyframes come in increasing order; its pair, if any, goes to `noise`.
   void Add(int k,
            const ClaimedDetection& detection,
-           double step_variance_t,
-           double step_variance_r,
+           const std::optional<StepVariance>& step,
            DetectionNoiseEstimator* noise);
 
  private:

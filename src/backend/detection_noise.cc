@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 namespace symba::internal {
 
@@ -126,39 +125,11 @@ ClassNoiseEstimate::Scatter DetectionNoiseEstimator::ScatterReport(
 void ClaimSamples::Add(double change_squared,
                        double claimed_variance,
                        double step_variance) {
-  const Sample sample{change_squared, claimed_variance, step_variance};
-  if (static_cast<int>(samples_.size()) < window_) {
-    samples_.push_back(sample);
-    return;
-  }
-  samples_[next_] = sample;
-  next_ = (next_ + 1) % samples_.size();
-}
-
-double ClaimSamples::MedianRatio(double f) const {
-  scratch_.clear();
-  for (const Sample& s : samples_) {
-    const double variance = f * f * s.claimed_variance + s.step_variance;
-    scratch_.push_back(variance > 0.0 ? std::sqrt(s.change_squared / variance)
-                                      : std::numeric_limits<double>::max());
-  }
-  return MedianInPlace(&scratch_);
-}
-
-double ClaimSamples::Scale() const {
-  // The median ratio falls as f grows: bisect in log f between bounds that
-  // hold it, 0 where the steps alone leave it below the chi median.
-  constexpr double kLow = 1e-3;
-  constexpr double kHigh = 1e3;
-  if (MedianRatio(kLow) <= kChi3Median) return 0.0;
-  if (MedianRatio(kHigh) >= kChi3Median) return kHigh;
-  double low = std::log(kLow);
-  double high = std::log(kHigh);
-  for (int i = 0; i < 50; ++i) {
-    const double mid = 0.5 * (low + high);
-    (MedianRatio(std::exp(mid)) > kChi3Median ? low : high) = mid;
-  }
-  return std::exp(0.5 * (low + high));
+  const double excess =
+      change_squared / (kChi3Median * kChi3Median) - step_variance;
+  scales_.Add(excess > 0.0 && claimed_variance > 0.0
+                  ? std::sqrt(excess / claimed_variance)
+                  : 0.0);
 }
 
 void DetectionNoiseEstimator::AddClaimPair(const std::string& class_name,

@@ -34,9 +34,12 @@
 // f^2 (sigma_a^2 + sigma_b^2) + s^2 (s^2 the step's motion variance), f = 1
 // when the claims hold (ClaimPairs makes the samples). The claim scale is
 // the f that makes the changes chi-square consistent, the median of
-//   |d| / sqrt(f^2 (sigma_a^2 + sigma_b^2) + s^2)
-// equal to 1.5382 (found by bisection: the median falls as f grows); 0
-// where the steps alone explain the changes.
+//   r_i(f) = |d_i| / sqrt(f^2 (sigma_a^2 + sigma_b^2)_i + s_i^2)
+// equal to 1.5382. Each r_i falls as f grows and passes 1.5382 at
+//   f_i = sqrt(max(0, |d_i|^2 / 1.5382^2 - s_i^2) / (sigma_a^2 + sigma_b^2)_i),
+// so the median of the r_i exceeds 1.5382 exactly when f is below the
+// median of the f_i: the scale is median(f_i) (0 where the steps alone
+// explain the changes).
 #ifndef SYMBA_SRC_BACKEND_DETECTION_NOISE_H_
 #define SYMBA_SRC_BACKEND_DETECTION_NOISE_H_
 
@@ -57,32 +60,6 @@ inline constexpr double kMinSigmaR = 1e-3;  // rad
 // The largest correlation of consecutive errors the estimate believes.
 inline constexpr double kMaxCorrelation = 0.98;
 
-// The last `window` pairs of a class's claimed detections (see above): |d|^2,
-// sigma_a^2 + sigma_b^2 and s^2.
-class ClaimSamples {
- public:
-  explicit ClaimSamples(int window) : window_(window) {}
-  void Add(double change_squared,
-           double claimed_variance,
-           double step_variance);
-  int size() const { return static_cast<int>(samples_.size()); }
-  // The claim scale f (see above); the samples must not be empty.
-  double Scale() const;
-
- private:
-  struct Sample {
-    double change_squared;
-    double claimed_variance;
-    double step_variance;
-  };
-  double MedianRatio(double f) const;
-
-  int window_;
-  std::vector<Sample> samples_;  // a ring once full
-  size_t next_ = 0;
-  mutable std::vector<double> scratch_;
-};
-
 // The median of the last `window` values added, over kChi3Median.
 class RobustScale {
  public:
@@ -98,6 +75,22 @@ class RobustScale {
   std::vector<double> values_;  // a ring once full
   size_t next_ = 0;
   mutable std::vector<double> scratch_;
+};
+
+// The last `window` pairs of a class's claimed detections (see above), each
+// as the f_i its |d|^2, sigma_a^2 + sigma_b^2 and s^2 give.
+class ClaimSamples {
+ public:
+  explicit ClaimSamples(int window) : scales_(window) {}
+  void Add(double change_squared,
+           double claimed_variance,
+           double step_variance);
+  int size() const { return scales_.size(); }
+  // The claim scale median(f_i) (see above); the samples must not be empty.
+  double Scale() const { return scales_.Median(); }
+
+ private:
+  RobustScale scales_;
 };
 
 // rho = 1 - sigma_I^2 / sigma_L^2, clamped to [0, kMaxCorrelation] (0 for
@@ -192,14 +185,6 @@ class DetectionNoiseEstimator {
   std::map<std::string, ClaimSamples> claim_t_;
   std::map<std::string, ClaimSamples> claim_r_;
 };
-
-// The sigma a claimed detection is weighed with: its own, times the claim
-// scale where that exceeds `tolerance` (the data contradicts the claim).
-inline double ClaimedSigma(double claimed,
-                           const std::optional<double>& scale,
-                           double tolerance) {
-  return scale && *scale > tolerance ? claimed * *scale : claimed;
-}
 
 // The noise an edge is built with: a detection's own sigma (the detector's
 // word) where it gives one; otherwise the larger of `given` (the options'

@@ -102,26 +102,44 @@ void Backend::Impl::SampleClaim(int k,
                                 const DetectionInput& detection,
                                 const CategorizedDetection* categorized) {
   const KeyframeState& kf = *trajectory_.keyframes()[k];
-  // Where the categorisation put it (its base rotation only when
-  // asymmetric: a symmetric one's rotation is not one pose); a baseline's
-  // detection by its first hypothesis.
-  const Rigid3d& first = detection.hypotheses.front().T_co;
+  // Where its edge puts it: the categorisation's pose (its rotation only
+  // when asymmetric: a symmetric one's is not one pose), or a baseline's
+  // highest-weight hypothesis (its rotation only for a single-pose
+  // detection of a class without a symmetric prior: the best of many
+  // hypotheses of a symmetric object turns about its axis from keyframe to
+  // keyframe, which mh's mixture covers and is no noise).
+  const std::vector<PoseHypothesis>& hyps = detection.hypotheses;
+  const Rigid3d& best =
+      hyps[internal::HighestWeight(hyps, internal::AllIndices(hyps.size()))]
+          .T_co;
   const Eigen::Vector3d t_co =
-      categorized != nullptr ? categorized->t_co : first.t;
+      categorized != nullptr ? categorized->t_co : best.t;
   std::optional<Eigen::Quaterniond> R_co;
-  if (categorized == nullptr) {
-    R_co = first.q;
-  } else if (categorized->type == SymmetryType::kAsymmetric) {
-    R_co = categorized->T_co_base.q;
+  if (categorized != nullptr) {
+    if (categorized->type == SymmetryType::kAsymmetric) {
+      R_co = categorized->T_co_base.q;
+    }
+  } else {
+    const ClassPrior* prior = map_.PriorOf(detection.class_name);
+    if (hyps.size() == 1 &&
+        (prior == nullptr || prior->symmetry == SymmetryType::kAsymmetric)) {
+      R_co = best.q;
+    }
   }
   internal::ClaimedDetection claimed;
   claimed.class_name = detection.class_name;
   claimed.p_w = kf.T_wc_chain * t_co;
-  if (R_co) claimed.R_w = (kf.T_wc_chain.q * *R_co).normalized();
-  claimed.sigma_t = detection.sigma_t;
-  claimed.sigma_r = detection.sigma_r;
+  if (R_co) claimed.R_w = (kf.T_wc_chain.q * R_co->normalized()).normalized();
+  // As the edge takes them (SetObservationNoise): a detection that
+  // declares one sigma claims the default for the other.
+  claimed.sigma_t = detection.sigma_t.value_or(options_.hypothesis_sigma_t);
+  claimed.sigma_r = detection.sigma_r.value_or(options_.hypothesis_sigma_r);
   claimed.distance = t_co.norm();
-  map_.SampleClaim(k, claimed, kf.motion_variance_t, kf.motion_variance_r);
+  std::optional<internal::StepVariance> step;
+  if (kf.motion_from == k - 1) {
+    step = internal::StepVariance{kf.motion_variance_t, kf.motion_variance_r};
+  }
+  map_.SampleClaim(k, claimed, step);
 }
 
 int Backend::Impl::AddSingleOrMultiHypothesis(

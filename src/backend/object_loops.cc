@@ -183,12 +183,12 @@ bool Backend::Impl::CloseLoopFromObjects() {
 
 double Backend::Impl::PositionSigma(const internal::ObjectState& o) const {
   // The detections' noise as the association gate takes it: the
-  // detection's own, or its scatter held to the class's white part, or the
+  // detection's own (times its class's claim factor), or its scatter held to the class's white part, or the
   // class's estimate, or the default.
   const internal::ObjectObservation& first = o.observations.front();
   const double sigma_t =
       first.claimed_t
-          ? first.sigma_t
+          ? first.sigma_t * ClaimFactorT(o.class_name)
           : GateSigmaT(o.class_name,
                        first.from_scatter ? std::optional<double>(first.sigma_t)
                                           : std::nullopt)

@@ -112,13 +112,11 @@ class ObjectMap {
                    const std::optional<Eigen::Quaterniond>& R_co);
 
   // A detection of keyframe k that declares its sigma, as a sample of its
-  // class's claim scale (claim_pairs.h); the step's motion variance is
-  // keyframe k's.
+  // class's claim scale (claim_pairs.h, ClaimPairs::Add).
   void SampleClaim(int k,
                    const ClaimedDetection& detection,
-                   double step_variance_t,
-                   double step_variance_r) {
-    claim_pairs_.Add(k, detection, step_variance_t, step_variance_r, &noise_);
+                   const std::optional<StepVariance>& step) {
+    claim_pairs_.Add(k, detection, step, &noise_);
   }
 
   // A detection of `class_name` weighed by its hypotheses' scatter, for

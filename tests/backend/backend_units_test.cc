@@ -82,6 +82,13 @@ TEST(ClaimSamples, TheScaleMakesTheChangesChiSquareConsistent) {
   }
   EXPECT_EQ(samples.size(), 10);
   EXPECT_NEAR(samples.Scale(), 5.0, 1e-9);
+  // Pairs that each pass the chi median at another f_i (1, 3, 10): the
+  // median of the ratios is the chi median at f = median f_i = 3.
+  ClaimSamples mixed(10);
+  for (const double f : {1.0, 3.0, 10.0}) {
+    mixed.Add(kChi3Median * kChi3Median * (f * f * 1e-4 + 1e-5), 1e-4, 1e-5);
+  }
+  EXPECT_NEAR(mixed.Scale(), 3.0, 1e-9);
 }
 
 // A claimed detection pairs with the nearest one of its class in the
@@ -102,9 +109,9 @@ TEST(ClaimPairs, PairsConsecutiveKeyframesOfAClassByDistance) {
   far.p_w = Eigen::Vector3d(1.5, 0.0, 0.0);
   ClaimedDetection can = a;
   can.class_name = "can";
-  pairs.Add(3, a, 0.0, 0.0, &noise);
-  pairs.Add(3, far, 0.0, 0.0, &noise);
-  pairs.Add(3, can, 0.0, 0.0, &noise);
+  pairs.Add(3, a, StepVariance{}, &noise);
+  pairs.Add(3, far, StepVariance{}, &noise);
+  pairs.Add(3, can, StepVariance{}, &noise);
   EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 0);
   ClaimedDetection b = a;
   b.p_w = Eigen::Vector3d(1.1, 0.0, 0.0);
@@ -112,7 +119,7 @@ TEST(ClaimPairs, PairsConsecutiveKeyframesOfAClassByDistance) {
   b.sigma_t = 0.02;
   const double s_t2 = 1e-6;
   const double s_r2 = 4e-6;
-  pairs.Add(4, b, s_t2, s_r2, &noise);
+  pairs.Add(4, b, StepVariance{s_t2, s_r2}, &noise);
   const ClassNoiseEstimate::Claims claims = noise.ClaimsReport("box");
   EXPECT_EQ(claims.translation_samples, 1);
   EXPECT_EQ(claims.rotation_samples, 1);
@@ -129,23 +136,29 @@ TEST(ClaimPairs, PairsConsecutiveKeyframesOfAClassByDistance) {
   // Not consecutive (keyframe 6 after 4): no pair; a rotation pair turned
   // beyond max_angle gives a translation sample only; beyond max_distance
   // there is no pair.
-  pairs.Add(6, a, 0.0, 0.0, &noise);
+  pairs.Add(6, a, StepVariance{}, &noise);
   ClaimedDetection turned = a;
   turned.R_w =
       Eigen::Quaterniond(Eigen::AngleAxisd(0.6, Eigen::Vector3d::UnitZ()));
-  pairs.Add(7, turned, 0.0, 0.0, &noise);
+  pairs.Add(7, turned, StepVariance{}, &noise);
   EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 2);
   EXPECT_EQ(noise.ClaimsReport("box").rotation_samples, 1);
   ClaimedDetection away = a;
   away.p_w = Eigen::Vector3d(1.0, 0.6, 0.0);
-  pairs.Add(8, away, 0.0, 0.0, &noise);
+  pairs.Add(8, away, StepVariance{}, &noise);
   EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 2);
   // An unclaimed component gives no sample.
   ClaimedDetection unclaimed = away;
   unclaimed.sigma_r.reset();
-  pairs.Add(9, unclaimed, 0.0, 0.0, &noise);
+  pairs.Add(9, unclaimed, StepVariance{}, &noise);
   EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 3);
   EXPECT_EQ(noise.ClaimsReport("box").rotation_samples, 1);
+  // A keyframe whose motion factor does not start at the previous one
+  // pairs with nothing, but the next keyframe pairs with it.
+  pairs.Add(10, away, std::nullopt, &noise);
+  EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 3);
+  pairs.Add(11, away, StepVariance{}, &noise);
+  EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 4);
 }
 
 TEST(DetectionNoiseEstimator, EstimatesPerClassOnceThereAreEnoughSamples) {

@@ -259,5 +259,27 @@ TEST_F(ObjectEdgesTest, AClaimContradictedBeyondTheToleranceIsScaled) {
   EXPECT_FALSE(edges_.ApplyNoise("box", noise));
 }
 
+// A scale that wobbles about the tolerance (1.5) switches the factor on
+// once and keeps it: 1.45 leaves the claims, 1.55 scales them, then 1.45
+// and 1.55 in turn move nothing; only a scale that falls to 1 or below
+// (beyond noise_update_ratio) takes the factor back to 1.
+TEST_F(ObjectEdgesTest, AClaimFactorDoesNotFlapAboutTheTolerance) {
+  ClassNoise noise = Noise(0.1, 0.2);
+  noise.claim_scale_t = 1.45;
+  ASSERT_TRUE(edges_.ApplyNoise("box", noise));  // the estimate is new
+  EXPECT_FALSE(edges_.AppliedNoise("box").claim_scale_t.has_value());
+  noise.claim_scale_t = 1.55;
+  EXPECT_TRUE(edges_.ApplyNoise("box", noise));
+  EXPECT_EQ(edges_.AppliedNoise("box").claim_scale_t, 1.55);
+  for (const double scale : {1.45, 1.55, 1.45, 1.3}) {
+    noise.claim_scale_t = scale;
+    EXPECT_FALSE(edges_.ApplyNoise("box", noise)) << scale;
+    EXPECT_EQ(edges_.AppliedNoise("box").claim_scale_t, 1.55) << scale;
+  }
+  noise.claim_scale_t = 0.9;
+  EXPECT_TRUE(edges_.ApplyNoise("box", noise));
+  EXPECT_EQ(edges_.AppliedNoise("box").claim_scale_t, 1.0);
+}
+
 }  // namespace
 }  // namespace symba::internal

@@ -204,6 +204,10 @@ TEST(ReplayOutputTest, SummaryJsonReportsWhatTheBackendBelievedOfTheNoise) {
   box.translation.inflation = 2.5;
   box.scatter.detections = 12;
   box.scatter.sigma_t = 0.03125;
+  box.claims.translation_samples = 25;
+  box.claims.rotation_samples = 0;
+  box.claims.scale_t = 4.5;
+  box.claims.factor_t = 4.5;
   result.noise = {box};
   const std::string json =
       FormatReplaySummaryJson("log.jsonl", ReplayOptions(), result);
@@ -227,7 +231,14 @@ TEST(ReplayOutputTest, SummaryJsonReportsWhatTheBackendBelievedOfTheNoise) {
                                             "\"hypothesis_scatter\": {",
                                             "\"detections\": 12",
                                             "\"sigma_t\": 0.03125",
-                                            "\"sigma_r\": null"};
+                                            "\"sigma_r\": null",
+                                            "\"claims\": {",
+                                            "\"translation_samples\": 25",
+                                            "\"rotation_samples\": 0",
+                                            "\"scale_t\": 4.5",
+                                            "\"scale_r\": null",
+                                            "\"factor_t\": 4.5",
+                                            "\"factor_r\": 1"};
   ExpectMembersInOrder(json, members);
   // No class with detections: an empty list.
   EXPECT_NE(FormatReplaySummaryJson("log.jsonl", ReplayOptions(), {})

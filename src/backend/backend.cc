@@ -533,6 +533,8 @@ BackendStatistics Backend::Statistics() const { return Run().statistics_; }
 
 std::vector<ClassNoiseEstimate> Backend::Noise() const { return Run().Noise(); }
 
+MotionNoiseReport Backend::MotionNoise() const { return Run().MotionNoise(); }
+
 Status Backend::KeyframeCovariances(
     const std::vector<KeyframeId>& ids,
     std::vector<KeyframeCovariance>* covariances) const {

@@ -55,6 +55,7 @@ class Backend::Impl {
   std::optional<KeyframeEstimate> Keyframe(KeyframeId id) const;
   std::optional<MapObjectEstimate> Object(ObjectId id) const;
   std::vector<ClassNoiseEstimate> Noise() const;
+  MotionNoiseReport MotionNoise() const { return trajectory_.MotionNoise(); }
   // The closed loops' reports and the waiting ones'.
   std::vector<LoopClosureReport> LoopClosures() const;
   Status ObjectCovariances(std::vector<MapObjectCovariance>* covariances);

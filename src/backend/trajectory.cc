@@ -85,6 +85,21 @@ Rigid3d Trajectory::ChainPose(const KeyframeInput& input) const {
   return Normalized(*input.T_wc);
 }
 
+MotionNoiseReport Trajectory::MotionNoise() const {
+  MotionNoiseReport report;
+  report.odometry_steps = odometry_sigmas_.steps;
+  report.frontend_steps = frontend_sigmas_.steps;
+  if (odometry_sigmas_.steps > 0) {
+    report.odometry_sigma_t = odometry_sigmas_.t.Median();
+    report.odometry_sigma_r = odometry_sigmas_.r.Median();
+  }
+  if (frontend_sigmas_.steps > 0) {
+    report.frontend_sigma_t = frontend_sigmas_.t.Median();
+    report.frontend_sigma_r = frontend_sigmas_.r.Median();
+  }
+  return report;
+}
+
 void Trajectory::AddCameraFactors(int k, const KeyframeInput& input) {
   KeyframeState& kf = *keyframes_[k];
   int other = -1;
@@ -105,6 +120,11 @@ void Trajectory::AddCameraFactors(int k, const KeyframeInput& input) {
   if (other < 0) return;
   const double sigma_t = 1.0 / sqrt_info(0, 0);
   const double sigma_r = 1.0 / sqrt_info(3, 3);
+  StepSigmas& sigmas =
+      other == k - 1 && input.odometry ? odometry_sigmas_ : frontend_sigmas_;
+  ++sigmas.steps;
+  sigmas.t.Add(sigma_t);
+  sigmas.r.Add(sigma_r);
   kf.motion_variance_t = sigma_t * sigma_t;
   kf.motion_variance_r = sigma_r * sigma_r;
   kf.motion_from = other;

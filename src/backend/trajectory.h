@@ -17,10 +17,14 @@
 #include <ceres/manifold.h>
 
 #include "backend/backend_state.h"
+#include "backend/detection_noise.h"
 #include "backend/factor_graph.h"
 #include "symba/backend/backend.h"
 
 namespace symba::internal {
+
+// The motion factors a MotionNoiseReport's medians are over (the last).
+inline constexpr int kMotionNoiseWindow = 500;
 
 class Trajectory {
  public:
@@ -42,6 +46,8 @@ class Trajectory {
   // Adds a validated keyframe with its camera motion factor and point
   // observations; returns its index.
   int Add(const KeyframeInput& input);
+  // The noise the motion factors were built with (MotionNoiseReport).
+  MotionNoiseReport MotionNoise() const;
 
  private:
   Rigid3d InitialPose(const KeyframeInput& input) const;
@@ -61,6 +67,15 @@ class Trajectory {
   PointList points_;
   std::unordered_map<int64_t, int> point_index_;
   int last_frontend_keyframe_ = -1;  // the last keyframe the front end posed
+  // The sigmas per step of the motion factors, by source.
+  struct StepSigmas {
+    explicit StepSigmas(int window) : t(window), r(window) {}
+    int steps = 0;
+    RobustScale t;
+    RobustScale r;
+  };
+  StepSigmas odometry_sigmas_{kMotionNoiseWindow};
+  StepSigmas frontend_sigmas_{kMotionNoiseWindow};
 };
 
 }  // namespace symba::internal

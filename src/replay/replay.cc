@@ -120,6 +120,7 @@ Status ReplayLog(const std::string& log_path,
   replay.relocalization = backend->Relocalization();
   replay.loop_closures = backend->LoopClosures();
   replay.noise = backend->Noise();
+  replay.motion = backend->MotionNoise();
   if (options.save_map) {
     replay.map.emplace();
     status = backend->SaveMap(&*replay.map);

@@ -84,6 +84,25 @@ void WriteNoise(const std::vector<ClassNoiseEstimate>& noise,
   json->EndArray();
 }
 
+// "motion": what the camera's motion factors were weighed with
+// (docs/replay.md).
+void WriteMotionNoise(const MotionNoiseReport& motion, JsonWriter* json) {
+  json->Key("motion")
+      .BeginObject()
+      .Key("odometry")
+      .BeginObject()
+      .Member("steps", motion.odometry_steps);
+  OptionalMember("sigma_t", motion.odometry_sigma_t, json);
+  OptionalMember("sigma_r", motion.odometry_sigma_r, json);
+  json->EndObject()
+      .Key("frontend_poses")
+      .BeginObject()
+      .Member("steps", motion.frontend_steps);
+  OptionalMember("sigma_t", motion.frontend_sigma_t, json);
+  OptionalMember("sigma_r", motion.frontend_sigma_r, json);
+  json->EndObject().EndObject();
+}
+
 void WriteOptionValue(const OptionValue& value, JsonWriter* json) {
   if (const bool* b = std::get_if<bool>(&value)) {
     json->Bool(*b);
@@ -315,6 +334,7 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
       .EndObject()
       .EndObject();
   WriteNoise(result.noise, &json);
+  WriteMotionNoise(result.motion, &json);
   WriteLoopClosures(result.loop_closures, &json);
   if (result.relocalization) WriteRelocalization(*result.relocalization, &json);
   WriteOptions(b, &json);

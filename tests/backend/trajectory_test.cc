@@ -104,6 +104,38 @@ TEST_F(TrajectoryTest, FrontEndPosesChainTheirRelativeMotion) {
 // A point is created from its first observation with a depth (back-projected
 // through the intrinsics); an observation without one before that adds
 // nothing, after it a reprojection factor.
+// The motion noise report: per source, the steps and the median sigmas
+// their factors were built with (odometry as stated, front-end poses at
+// frontend_sigma_*); the first keyframe has no factor.
+TEST_F(TrajectoryTest, ReportsTheNoiseOfEachMotionFactorsSource) {
+  options_.frontend_sigma_t = 0.04;
+  options_.frontend_sigma_r = 0.03;
+  Build();
+  EXPECT_EQ(trajectory().MotionNoise().odometry_steps, 0);
+  EXPECT_FALSE(trajectory().MotionNoise().odometry_sigma_t.has_value());
+  KeyframeInput kf;
+  kf.id = 1;
+  kf.T_wc = PoseAt(0, 0, 0);
+  trajectory().Add(kf);
+  for (const double sigma_t : {0.01, 0.03, 0.02}) {
+    KeyframeInput next;
+    next.id = ++kf.id;
+    next.odometry = Odometry{PoseAt(0, 0, 1), sigma_t, 2.0 * sigma_t};
+    trajectory().Add(next);
+  }
+  KeyframeInput posed;
+  posed.id = ++kf.id;
+  posed.T_wc = PoseAt(0, 0, 4);
+  trajectory().Add(posed);
+  const MotionNoiseReport report = trajectory().MotionNoise();
+  EXPECT_EQ(report.odometry_steps, 3);
+  EXPECT_DOUBLE_EQ(*report.odometry_sigma_t, 0.02);
+  EXPECT_DOUBLE_EQ(*report.odometry_sigma_r, 0.04);
+  EXPECT_EQ(report.frontend_steps, 1);
+  EXPECT_DOUBLE_EQ(*report.frontend_sigma_t, 0.04);
+  EXPECT_DOUBLE_EQ(*report.frontend_sigma_r, 0.03);
+}
+
 TEST_F(TrajectoryTest, PointsAreCreatedFromADepth) {
   options_.point_depth_sigma_relative = 0.0;  // no depth factors
   Build(PinholeIntrinsics{100, 100, 50, 50});

@@ -209,6 +209,9 @@ TEST(ReplayOutputTest, SummaryJsonReportsWhatTheBackendBelievedOfTheNoise) {
   box.claims.scale_t = 4.5;
   box.claims.factor_t = 4.5;
   result.noise = {box};
+  result.motion.odometry_steps = 7;
+  result.motion.odometry_sigma_t = 0.005;
+  result.motion.odometry_sigma_r = 0.01;
   const std::string json =
       FormatReplaySummaryJson("log.jsonl", ReplayOptions(), result);
   // In order; no rotation estimate yet: null.
@@ -238,7 +241,15 @@ TEST(ReplayOutputTest, SummaryJsonReportsWhatTheBackendBelievedOfTheNoise) {
                                             "\"scale_t\": 4.5",
                                             "\"scale_r\": null",
                                             "\"factor_t\": 4.5",
-                                            "\"factor_r\": 1"};
+                                            "\"factor_r\": 1",
+                                            "\"motion\": {",
+                                            "\"odometry\": {",
+                                            "\"steps\": 7",
+                                            "\"sigma_t\": 0.005",
+                                            "\"sigma_r\": 0.01",
+                                            "\"frontend_poses\": {",
+                                            "\"steps\": 0",
+                                            "\"sigma_t\": null"};
   ExpectMembersInOrder(json, members);
   // No class with detections: an empty list.
   EXPECT_NE(FormatReplaySummaryJson("log.jsonl", ReplayOptions(), {})

@@ -146,6 +146,22 @@ struct ClassNoiseEstimate {
   Claims claims;
 };
 
+// What the backend weighs the camera's motion with, against the objects
+// (docs/backend.md "Real detectors"): how many keyframes a motion factor
+// ties to the one before by the odometry, and by the front end's poses,
+// and the medians (over the last 500 such keyframes) of the sigmas per step
+// each gave: the odometry's as the log states them, the front end's poses'
+// the options' frontend_sigma_t, frontend_sigma_r. They are taken as
+// given, not estimated.
+struct MotionNoiseReport {
+  int odometry_steps = 0;
+  std::optional<double> odometry_sigma_t;  // m
+  std::optional<double> odometry_sigma_r;  // rad
+  int frontend_steps = 0;
+  std::optional<double> frontend_sigma_t;  // m
+  std::optional<double> frontend_sigma_r;  // rad
+};
+
 }  // namespace symba
 
 #endif  // SYMBA_BACKEND_ESTIMATES_H_

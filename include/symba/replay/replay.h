@@ -46,6 +46,7 @@ struct ReplayResult {
   std::vector<DetectionAssignment> assignments;
   BackendStatistics statistics;
   std::vector<ClassNoiseEstimate> noise;  // Backend::Noise() at the end
+  MotionNoiseReport motion;               // Backend::MotionNoise() at the end
   SolveReport last_solve;                 // the final window or the batch solve
   // Why no object has a covariance (Backend::ObjectCovariances failed);
   // empty when they were computed.

@@ -201,4 +201,12 @@ ClassNoise DetectionNoiseEstimator::Estimate(
   return noise;
 }
 
+double ObjectMeanSigma(double sigma, int n, const NoiseSamplesReport& samples) {
+  const double persistent =
+      samples.sigma_level
+          ? *samples.sigma_level * *samples.sigma_level * samples.correlation
+          : 0.0;
+  return std::sqrt(sigma * sigma / std::max(1, n) + persistent);
+}
+
 }  // namespace symba::internal

@@ -186,6 +186,14 @@ class DetectionNoiseEstimator {
   std::map<std::string, ClaimSamples> claim_r_;
 };
 
+// The position noise (m) of an object's mean over its detections in n
+// keyframes, each weighed with the class's estimate `sigma` (m): sigma^2 /
+// n, plus the persistent part of the class's errors, sigma_L^2 rho from
+// `samples` (0 before there is a sigma_L): errors that last longer than the
+// AR(1) model's correlation time (a detector's bias for one viewpoint) do
+// not average down over one object's views.
+double ObjectMeanSigma(double sigma, int n, const NoiseSamplesReport& samples);
+
 // The noise an edge is built with: a detection's own sigma (the detector's
 // word) where it gives one; otherwise the larger of `given` (the options'
 // floor for uncalibrated detectors, or the hypotheses' scatter) and the

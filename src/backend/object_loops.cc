@@ -183,8 +183,10 @@ bool Backend::Impl::CloseLoopFromObjects() {
 
 double Backend::Impl::PositionSigma(const internal::ObjectState& o) const {
   // The detections' noise as the association gate takes it: the
-  // detection's own (times its class's claim factor), or its scatter held to the class's white part, or the
-  // class's estimate, or the default.
+  // detection's own (times its class's claim factor), or its scatter held
+  // to the class's white part, or the class's estimate (with the
+  // persistent part of its errors, ObjectMeanSigma), or the default; over
+  // the square root of the keyframes that saw the object.
   const internal::ObjectObservation& first = o.observations.front();
   const double sigma_t =
       first.claimed_t
@@ -193,7 +195,10 @@ double Backend::Impl::PositionSigma(const internal::ObjectState& o) const {
                        first.from_scatter ? std::optional<double>(first.sigma_t)
                                           : std::nullopt)
                 .value_or(first.sigma_t);
-  return sigma_t / std::sqrt(std::max(1, o.keyframes_seen));
+  const int n = std::max(1, o.keyframes_seen);
+  if (first.claimed_t || first.from_scatter) return sigma_t / std::sqrt(n);
+  return internal::ObjectMeanSigma(
+      sigma_t, n, map_.noise().TranslationReport(o.class_name));
 }
 
 bool Backend::Impl::SameObject(const internal::ObjectState& a,

@@ -161,6 +161,22 @@ TEST(ClaimPairs, PairsConsecutiveKeyframesOfAClassByDistance) {
   EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 4);
 }
 
+// An object's mean: sigma / sqrt(n) without samples; with a level sigma
+// of 2 cm and rho 0.81, the persistent 0.02^2 0.81 stays however many
+// keyframes saw it.
+TEST(ObjectMeanSigma, KeepsThePersistentPartOfTheErrors) {
+  NoiseSamplesReport none;
+  EXPECT_DOUBLE_EQ(ObjectMeanSigma(0.04, 16, none), 0.01);
+  EXPECT_DOUBLE_EQ(ObjectMeanSigma(0.04, 0, none), 0.04);
+  NoiseSamplesReport persistent;
+  persistent.sigma_level = 0.02;
+  persistent.correlation = 0.81;
+  EXPECT_NEAR(ObjectMeanSigma(0.04, 16, persistent),
+              std::sqrt(0.01 * 0.01 + 0.02 * 0.02 * 0.81),
+              1e-15);
+  EXPECT_NEAR(ObjectMeanSigma(0.04, 1000000, persistent), 0.018, 1e-6);
+}
+
 TEST(DetectionNoiseEstimator, EstimatesPerClassOnceThereAreEnoughSamples) {
   using Kind = DetectionNoiseEstimator::Kind;
   DetectionNoiseEstimator noise(100, 3);

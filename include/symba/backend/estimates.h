@@ -130,9 +130,11 @@ struct ClassNoiseEstimate {
   // The detections of the class that declare their sigma
   // (BackendOptions::claimed_noise_tolerance): how many pairs in
   // consecutive keyframes measured the claims, and the claim scales, the
-  // robust scale of |change| / (what the claims and the step's motion
-  // noise predict), about 1 when the claims hold (nullopt below
-  // noise_min_samples). Where a scale exceeds the tolerance, the class's
+  // factor f by which the claims must grow for the pairs' changes to be
+  // chi-square consistent with f^2 claims + the steps' motion noise (the
+  // median of each pair's f_i), about 1 when the claims hold, 0 when the
+  // steps alone explain them (nullopt below noise_min_samples). Once a
+  // scale exceeds the tolerance, and while it stays above 1, the class's
   // claimed sigmas are weighed times it: factor_t, factor_r are what the
   // edges were last built with (1: as claimed).
   struct Claims {

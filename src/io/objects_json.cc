@@ -6,6 +6,7 @@
 
 #include "io/json_tree_reader.h"
 #include "io/json_writer.h"
+#include "io/noise_json.h"
 #include "io/object_record.h"
 
 namespace symba {
@@ -18,13 +19,24 @@ using io_internal::ObjectsArray;
 using io_internal::ReadJsonFile;
 
 std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects) {
+  return FormatObjectsJson(objects, {}, std::nullopt);
+}
+
+std::string FormatObjectsJson(const std::vector<MapObjectEstimate>& objects,
+                              const std::vector<ClassNoiseEstimate>& noise,
+                              const std::optional<MotionNoiseReport>& motion) {
   std::string out;
   JsonWriter json(&out, JsonWriter::kWrapEverything);
   json.BeginObject().Key("objects").BeginArray();
   for (const MapObjectEstimate& o : objects) {
     io_internal::WriteObjectRecord(o, &json);
   }
-  json.EndArray().EndObject();
+  json.EndArray();
+  if (motion) {
+    io_internal::WriteNoise(noise, &json);
+    io_internal::WriteMotionNoise(*motion, &json);
+  }
+  json.EndObject();
   out.push_back('\n');
   return out;
 }

@@ -27,82 +27,6 @@ std::string QuoteCsv(const std::string& field) {
   return quoted + "\"";
 }
 
-void OptionalMember(std::string_view key,
-                    const std::optional<double>& value,
-                    JsonWriter* json) {
-  json->Key(key);
-  if (value) {
-    json->Double(*value);
-  } else {
-    json->Null();
-  }
-}
-
-void WriteSamples(std::string_view key,
-                  const ClassNoiseEstimate::Samples& samples,
-                  JsonWriter* json) {
-  json->Key(key).BeginObject();
-  json->Member("levels", samples.levels)
-      .Member("increments", samples.increments);
-  OptionalMember("sigma_level", samples.sigma_level, json);
-  OptionalMember("sigma_increment", samples.sigma_increment, json);
-  json->Member("correlation", samples.correlation)
-      .Member("inflation", samples.inflation)
-      .EndObject();
-}
-
-// "noise": per class, what the backend estimated and weighs with
-// (docs/replay.md).
-void WriteNoise(const std::vector<ClassNoiseEstimate>& noise,
-                JsonWriter* json) {
-  json->Key("noise").BeginArray();
-  for (const ClassNoiseEstimate& c : noise) {
-    json->BeginObject().Member("class", c.class_name);
-    OptionalMember("sigma_t", c.sigma_t, json);
-    OptionalMember("sigma_r", c.sigma_r, json);
-    json->Member("weight_sigma_t", c.weight_sigma_t)
-        .Member("weight_sigma_r", c.weight_sigma_r);
-    WriteSamples("translation", c.translation, json);
-    WriteSamples("rotation", c.rotation, json);
-    json->Key("hypothesis_scatter")
-        .BeginObject()
-        .Member("detections", c.scatter.detections);
-    OptionalMember("sigma_t", c.scatter.sigma_t, json);
-    OptionalMember("sigma_r", c.scatter.sigma_r, json);
-    json->EndObject();
-    json->Key("claims")
-        .BeginObject()
-        .Member("translation_samples", c.claims.translation_samples)
-        .Member("rotation_samples", c.claims.rotation_samples);
-    OptionalMember("scale_t", c.claims.scale_t, json);
-    OptionalMember("scale_r", c.claims.scale_r, json);
-    json->Member("factor_t", c.claims.factor_t)
-        .Member("factor_r", c.claims.factor_r)
-        .EndObject()
-        .EndObject();
-  }
-  json->EndArray();
-}
-
-// "motion": what the camera's motion factors were weighed with
-// (docs/replay.md).
-void WriteMotionNoise(const MotionNoiseReport& motion, JsonWriter* json) {
-  json->Key("motion")
-      .BeginObject()
-      .Key("odometry")
-      .BeginObject()
-      .Member("steps", motion.odometry_steps);
-  OptionalMember("sigma_t", motion.odometry_sigma_t, json);
-  OptionalMember("sigma_r", motion.odometry_sigma_r, json);
-  json->EndObject()
-      .Key("frontend_poses")
-      .BeginObject()
-      .Member("steps", motion.frontend_steps);
-  OptionalMember("sigma_t", motion.frontend_sigma_t, json);
-  OptionalMember("sigma_r", motion.frontend_sigma_r, json);
-  json->EndObject().EndObject();
-}
-
 void WriteOptionValue(const OptionValue& value, JsonWriter* json) {
   if (const bool* b = std::get_if<bool>(&value)) {
     json->Bool(*b);
@@ -333,8 +257,8 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
       .Member("prior_size", result.last_solve.prior_size)
       .EndObject()
       .EndObject();
-  WriteNoise(result.noise, &json);
-  WriteMotionNoise(result.motion, &json);
+  io_internal::WriteNoise(result.noise, &json);
+  io_internal::WriteMotionNoise(result.motion, &json);
   WriteLoopClosures(result.loop_closures, &json);
   if (result.relocalization) WriteRelocalization(*result.relocalization, &json);
   WriteOptions(b, &json);
@@ -348,7 +272,8 @@ std::vector<std::pair<std::string, std::string>> ReplayOutputFiles(
     const ReplayOptions& options,
     const ReplayResult& result) {
   return {{"trajectory.tum", FormatTumTrajectory(result.keyframes)},
-          {"objects.json", FormatObjectsJson(result.objects)},
+          {"objects.json",
+           FormatObjectsJson(result.objects, result.noise, result.motion)},
           {"associations.csv", FormatAssociationsCsv(result.assignments)},
           {"loop_closures.csv", FormatLoopClosuresCsv(result.loop_closures)},
           {"summary.json", FormatReplaySummaryJson(log_path, options, result)}};

@@ -67,6 +67,31 @@ TEST(ObjectsJson, CovariancesRoundTripWithSixDigits) {
   EXPECT_EQ(FormatObjectsJson(read), FormatObjectsJson({Discrete()}));
 }
 
+// With the noise a replay used (after the objects, as in summary.json):
+// the objects read back as without it, and the noise is in the text.
+TEST(ObjectsJson, TheNoiseFollowsTheObjectsAndTheReaderIgnoresIt) {
+  ClassNoiseEstimate box;
+  box.class_name = "box";
+  box.sigma_t = 0.25;
+  MotionNoiseReport motion;
+  motion.odometry_steps = 3;
+  motion.odometry_sigma_t = 0.005;
+  const std::string text = FormatObjectsJson({Discrete()}, {box}, motion);
+  for (const char* member : {"\"noise\": [",
+                             "\"class\": \"box\"",
+                             "\"sigma_t\": 0.25",
+                             "\"motion\": {",
+                             "\"steps\": 3"}) {
+    EXPECT_NE(text.find(member), std::string::npos) << member << "\n" << text;
+  }
+  EXPECT_LT(text.find("\"objects\""), text.find("\"noise\""));
+  std::vector<MapObjectEstimate> read;
+  const Status status =
+      ReadObjectsJson(WriteTemp("objects_noise.json", text), &read);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(FormatObjectsJson(read), FormatObjectsJson({Discrete()}));
+}
+
 // Every source is written by its name and read back as itself.
 TEST(ObjectsJson, EveryCovarianceSourceRoundTrips) {
   const std::pair<MapObjectCovariance::Source, const char*> sources[] = {

@@ -172,11 +172,12 @@ struct BackendOptions {
   double noise_update_ratio = 1.25;
   // With estimate_noise, a declared sigma is a prior the data can overrule:
   // the changes between a class's claimed detections in consecutive
-  // keyframes (where the front end alone puts them), each over what the
-  // two claims and the step's motion noise predict, give the class's claim
-  // scale (robust, like the estimate); from noise_min_samples on, a scale
-  // above claimed_noise_tolerance multiplies every claimed sigma of the
-  // class (docs/backend.md "Real detectors", 4).
+  // keyframes (where the front end alone puts them) give the class's claim
+  // scale, the factor by which the claims must grow for the changes to be
+  // chi-square consistent with them and the steps' motion noise; from
+  // noise_min_samples pairs on, once the scale exceeds
+  // claimed_noise_tolerance, and while it stays above 1, it multiplies
+  // every claimed sigma of the class (docs/backend.md "Real detectors", 4).
   double claimed_noise_tolerance = 1.5;
   // With estimate_noise, a detection that gives no sigma is weighed with
   // max(estimate, uncalibrated_sigma) instead of hypothesis_sigma: errors

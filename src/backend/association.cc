@@ -30,6 +30,117 @@ AssociationScope DetectionScope(const DetectionInput& detection,
   return scope;
 }
 
+double PlaceGrowth(const ObjectList& objects,
+                   const std::vector<std::unique_ptr<KeyframeState>>& keyframes,
+                   int k,
+                   const Eigen::Vector3d& t_w,
+                   double distance,
+                   const BackendOptions& options) {
+  int seen = -1;
+  for (const auto& object : objects) {
+    if (object->status == ObjectStatus::kDropped) continue;
+    const int before = object->LastSeenBefore(k);
+    if (before <= seen) continue;
+    if ((object->position() - t_w).norm() <= options.gate_position) {
+      seen = before;
+    }
+  }
+  if (seen < 0) return 0.0;
+  const KeyframeState& now = *keyframes[k];
+  const KeyframeState& then = *keyframes[seen];
+  return (now.summed_motion_variance_t - then.summed_motion_variance_t) +
+         distance * distance *
+             (now.summed_motion_variance_r - then.summed_motion_variance_r);
+}
+
+namespace {
+
+AssociationScope OneStep(AssociationScope scope) {
+  scope.place_variance = 0.0;
+  return scope;
+}
+
+// No object but `o` within `radius` of it.
+bool AloneWithin(const ObjectList& objects, size_t o, double radius) {
+  for (size_t other = 0; other < objects.size(); ++other) {
+    if (other == o || objects[other]->status == ObjectStatus::kDropped) {
+      continue;
+    }
+    if ((objects[other]->position() - objects[o]->position()).norm() <=
+        radius) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Whether `shift` explains the keyframe's other detections near object
+// `o` (within `radius` of it once moved): more of them, moved by it, lie
+// within one step's gate of an object of their class (other than `o`)
+// than do not, and at least one does.
+bool ShiftExplainsThePlace(const ObjectList& objects,
+                           const std::vector<RevisitDetection>& detections,
+                           size_t i,
+                           size_t o,
+                           const Eigen::Vector3d& shift,
+                           double radius,
+                           const BackendOptions& options) {
+  int explained = 0;
+  int unexplained = 0;
+  for (size_t j = 0; j < detections.size(); ++j) {
+    const RevisitDetection& other = detections[j];
+    const Eigen::Vector3d moved = other.t_w + shift;
+    if (j == i || (moved - objects[o]->position()).norm() > radius) continue;
+    const AssociationScope scope = OneStep(other.scope);
+    bool found = false;
+    for (size_t p = 0; p < objects.size() && !found; ++p) {
+      const ObjectState& object = *objects[p];
+      found = p != o && object.status != ObjectStatus::kDropped &&
+              object.class_name == *other.class_name &&
+              (object.position() - moved).norm() <=
+                  PositionGate(object, scope, options);
+    }
+    ++(found ? explained : unexplained);
+  }
+  return explained > 0 && explained > unexplained;
+}
+
+}  // namespace
+
+std::vector<double> RevisitVariances(
+    const ObjectList& objects,
+    const std::vector<RevisitDetection>& detections,
+    const BackendOptions& options) {
+  std::vector<double> variances(detections.size(), 0.0);
+  for (size_t i = 0; i < detections.size(); ++i) {
+    const RevisitDetection& detection = detections[i];
+    if (detection.scope.place_variance <= detection.scope.prediction_variance) {
+      continue;
+    }
+    const AssociationScope one_step = OneStep(detection.scope);
+    for (size_t o = 0; o < objects.size(); ++o) {
+      const ObjectState& object = *objects[o];
+      if (object.status == ObjectStatus::kDropped ||
+          object.class_name != *detection.class_name) {
+        continue;
+      }
+      const Eigen::Vector3d shift = object.position() - detection.t_w;
+      const double d = shift.norm();
+      if (d <= PositionGate(object, one_step, options) ||
+          d > PositionGate(object, detection.scope, options)) {
+        continue;
+      }
+      if (AloneWithin(objects, o, detection.distance) ||
+          ShiftExplainsThePlace(
+              objects, detections, i, o, shift, detection.distance, options)) {
+        variances[i] = detection.scope.place_variance;
+        break;
+      }
+    }
+  }
+  return variances;
+}
+
 double PositionGate(const ObjectState& object,
                     const AssociationScope& scope,
                     const BackendOptions& options) {
@@ -37,8 +148,10 @@ double PositionGate(const ObjectState& object,
     return options.gate_position;
   }
   const double n = std::max<size_t>(1, object.observations.size());
-  const double variance = *scope.sigma_t * *scope.sigma_t * (1.0 + 1.0 / n) +
-                          scope.prediction_variance;
+  const double prediction =
+      std::max(scope.prediction_variance, scope.place_variance);
+  const double variance =
+      *scope.sigma_t * *scope.sigma_t * (1.0 + 1.0 / n) + prediction;
   return std::min(options.gate_position,
                   options.gate_sigmas * std::sqrt(variance));
 }

@@ -23,8 +23,9 @@
 //   Only objects of the requested status take part (the backend tries the
 //   confirmed map first, then tentative objects). The position gate is
 //   gate_position, or, once the detection's noise is known, that noise
-//   with the object's (n observations) and the predicted camera's, times
-//   gate_sigmas, if that is smaller (PositionGate).
+//   with the object's (n observations) and the predicted camera's (one
+//   motion step, or the steps since the place was last seen: PlaceGrowth),
+//   times gate_sigmas, if that is smaller (PositionGate).
 //   angles      a discrete object's angle within gate_angle of the twist
 //               the detection shows, else a new angle.
 #ifndef SYMBA_SRC_BACKEND_ASSOCIATION_H_
@@ -58,6 +59,9 @@ struct AssociationScope {
   // The variance the predicted camera pose adds to the detection's world
   // position (m^2): one step of the camera motion noise at its distance.
   double prediction_variance = 0.0;
+  // The variance the camera's motion since the place was last seen adds
+  // (m^2; PlaceGrowth), if larger than prediction_variance.
+  double place_variance = 0.0;
 };
 
 // The scope of a detection in keyframe `kf` seen at t_co (confirmed
@@ -75,9 +79,51 @@ AssociationScope DetectionScope(const DetectionInput& detection,
                                 const BackendOptions& options,
                                 double claim_factor_t = 1.0);
 
+// The camera's uncertainty relative to where the detection lies, grown
+// since that place was last seen (docs/backend.md "Real detectors", 2):
+// with j the latest keyframe before keyframe k in which an object (any
+// class, any status but dropped) within gate_position of the detection's
+// world position t_w was detected, the motion variances summed along the
+// chain from j to k, the rotation's at the detection's distance d:
+// (V_t(k) - V_t(j)) + d^2 (V_r(k) - V_r(j)) (KeyframeState::summed_motion_variance_*).
+// 0 where no such object was seen before keyframe k.
+double PlaceGrowth(const ObjectList& objects,
+                   const std::vector<std::unique_ptr<KeyframeState>>& keyframes,
+                   int k,
+                   const Eigen::Vector3d& t_w,
+                   double distance,
+                   const BackendOptions& options);
+
+// One detection of a keyframe as the revisit test (RevisitVariances) sees
+// it: its class, where the predicted camera puts it, its distance from
+// the camera, and its scope (one step's prediction_variance; PlaceGrowth's
+// place_variance).
+struct RevisitDetection {
+  const std::string* class_name = nullptr;
+  Eigen::Vector3d t_w = Eigen::Vector3d::Zero();
+  double distance = 0.0;
+  AssociationScope scope;
+};
+
+// Per detection of a keyframe, the place_variance its position gate may
+// take: PlaceGrowth's, where a grown gate reaches an object of its class
+// that one step's gate does not (a revisit, off by Delta = the object's
+// position - the detection's) and either no other object lies within the
+// detection's distance from the camera of that object (a place of one
+// object), or another detection of the keyframe, moved by Delta, lies
+// within one step's gate of another object of its class (the place seen
+// off by the same shift); else 0. A detection of one object that the
+// drift carried near another of its class is so kept from it when the
+// place's other detections do not move with it.
+std::vector<double> RevisitVariances(
+    const ObjectList& objects,
+    const std::vector<RevisitDetection>& detections,
+    const BackendOptions& options);
+
 // The position gate (m) of `object` for a detection in `scope`:
 // min(gate_position, gate_sigmas * sqrt(sigma_t^2 (1 + 1/n) +
-// prediction_variance)) once sigma_t is known, gate_position before.
+// max(prediction_variance, place_variance))) once sigma_t is known,
+// gate_position before.
 double PositionGate(const ObjectState& object,
                     const AssociationScope& scope,
                     const BackendOptions& options);

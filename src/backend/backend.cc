@@ -178,12 +178,14 @@ Status Backend::Impl::AddKeyframe(
   // Nothing below can fail: the keyframe is added whole.
   const size_t first_assignment = assignments_.size();
   const int k = trajectory_.Add(input);
+  const std::vector<double> revisit = RevisitVariances(k, input);
   for (size_t d = 0; d < input.detections.size(); ++d) {
     AddDetection(k,
                  input.detections[d],
                  options_.method == Method::kSymba ? &categorized_[d] : nullptr,
                  scatters_[d],
-                 DetectionId(input, d));
+                 DetectionId(input, d),
+                 revisit[d]);
   }
   map_.UpdateTentative(k);
   if (options_.min_support > 0.0) {

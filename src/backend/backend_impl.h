@@ -82,7 +82,12 @@ class Backend::Impl {
                     const DetectionInput& detection,
                     const CategorizedDetection* categorized,
                     const std::optional<HypothesisScatter>& scatter,
-                    const std::string& detection_id);
+                    const std::string& detection_id,
+                    double place_variance);
+  // Per detection of keyframe k, the variance its position gate takes for
+  // the camera's motion since the place was last seen (0: one step's;
+  // internal::RevisitVariances).
+  std::vector<double> RevisitVariances(int k, const KeyframeInput& input) const;
   // What a declared sigma_t of the class is multiplied by (1: the claims
   // hold; ObjectEdges::ApplyNoise).
   double ClaimFactorT(const std::string& class_name) const;
@@ -95,12 +100,14 @@ class Backend::Impl {
       int k,
       const DetectionInput& detection,
       const std::optional<HypothesisScatter>& scatter,
-      const Matrix6d& sqrt_info);
+      const Matrix6d& sqrt_info,
+      double place_variance);
   int AddSymba(int k,
                const DetectionInput& detection,
                const CategorizedDetection& cat,
                const std::optional<HypothesisScatter>& scatter,
-               const Matrix6d& sqrt_info);
+               const Matrix6d& sqrt_info,
+               double place_variance);
   // The position noise the association gate takes for a detection of
   // `class_name` without sigmas: its scatter held to the class's white
   // part, or the class's estimate (nullopt: gate_position alone).

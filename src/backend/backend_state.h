@@ -59,6 +59,11 @@ struct KeyframeState {
   // The keyframe (index) its camera motion factor relates it to: the
   // previous one (odometry), or the last the front end posed (-1: none).
   int motion_from = -1;
+  // The motion variances summed along the motion factors from the first
+  // keyframe (m^2, rad^2): what the camera's uncertainty grows by between
+  // two keyframes of the chain, as the odometry states it.
+  double summed_motion_variance_t = 0.0;
+  double summed_motion_variance_r = 0.0;
   // Every factor touching this keyframe while it is in the window (freed
   // when it leaves).
   std::vector<int> factors;
@@ -118,10 +123,11 @@ struct UpgradeRecord {
 struct ObjectState {
   int id = 0;
   ObjectStatus status = ObjectStatus::kConfirmed;
-  int created_keyframe = -1;  // keyframe index
-  int last_keyframe = -1;     // keyframe index of its last detection
-  int keyframes_seen = 0;     // distinct keyframes with a detection of it
-  int keyframes_in_view = 0;  // keyframes since confirmation it was in view
+  int created_keyframe = -1;   // keyframe index
+  int last_keyframe = -1;      // keyframe index of its last detection
+  int previous_keyframe = -1;  // ... of its last one before last_keyframe
+  int keyframes_seen = 0;      // distinct keyframes with a detection of it
+  int keyframes_in_view = 0;   // keyframes since confirmation it was in view
   int keyframes_seen_in_view = 0;  // ... and was detected in
   std::vector<int> assignments;    // indices into the backend's assignments
   std::vector<FlipEvidence> flips;
@@ -168,6 +174,10 @@ struct ObjectState {
 
   Eigen::Vector3d position() const {
     return Eigen::Map<const Eigen::Vector3d>(t);
+  }
+  // The keyframe (index) of its last detection before keyframe k (-1: none).
+  int LastSeenBefore(int k) const {
+    return last_keyframe < k ? last_keyframe : previous_keyframe;
   }
   Eigen::Vector3d axis_w() const {
     return Eigen::Map<const Eigen::Vector3d>(a_w);

@@ -67,18 +67,60 @@ double Backend::Impl::ClaimFactorT(const std::string& class_name) const {
   return edges_.AppliedNoise(class_name).claim_scale_t.value_or(1.0);
 }
 
+std::vector<double> Backend::Impl::RevisitVariances(
+    int k, const KeyframeInput& input) const {
+  const KeyframeState& kf = *trajectory_.keyframes()[k];
+  const Rigid3d T_wc = kf.T_wc();
+  std::vector<internal::RevisitDetection> detections;
+  for (size_t d = 0; d < input.detections.size(); ++d) {
+    const DetectionInput& detection = input.detections[d];
+    // Where its association will look from: the categorisation's position,
+    // or a baseline's highest-weight hypothesis.
+    const std::vector<PoseHypothesis>& hyps = detection.hypotheses;
+    const Eigen::Vector3d t_co =
+        options_.method == Method::kSymba
+            ? categorized_[d].t_co
+            : hyps[internal::HighestWeight(hyps,
+                                           internal::AllIndices(hyps.size()))]
+                  .T_co.t;
+    internal::RevisitDetection revisit;
+    revisit.class_name = &detection.class_name;
+    revisit.t_w = T_wc * t_co;
+    revisit.distance = t_co.norm();
+    revisit.scope =
+        internal::DetectionScope(detection,
+                                 kf,
+                                 t_co,
+                                 GateSigmaT(detection.class_name, scatters_[d]),
+                                 options_,
+                                 ClaimFactorT(detection.class_name));
+    revisit.scope.place_variance =
+        internal::PlaceGrowth(map_.objects(),
+                              trajectory_.keyframes(),
+                              k,
+                              revisit.t_w,
+                              revisit.distance,
+                              options_);
+    detections.push_back(revisit);
+  }
+  return internal::RevisitVariances(map_.objects(), detections, options_);
+}
+
 void Backend::Impl::AddDetection(
     int k,
     const DetectionInput& detection,
     const CategorizedDetection* categorized,
     const std::optional<HypothesisScatter>& scatter,
-    const std::string& detection_id) {
+    const std::string& detection_id,
+    double place_variance) {
   const Matrix6d sqrt_info =
       internal::InitialSqrtInfo(detection, scatter, options_);
   const int object =
       categorized != nullptr
-          ? AddSymba(k, detection, *categorized, scatter, sqrt_info)
-          : AddSingleOrMultiHypothesis(k, detection, scatter, sqrt_info);
+          ? AddSymba(
+                k, detection, *categorized, scatter, sqrt_info, place_variance)
+          : AddSingleOrMultiHypothesis(
+                k, detection, scatter, sqrt_info, place_variance);
   if (scatter) map_.NoteScatter(detection.class_name, *scatter);
   const SymmetryType type =
       categorized != nullptr ? categorized->type : SymmetryType::kAsymmetric;
@@ -146,7 +188,8 @@ int Backend::Impl::AddSingleOrMultiHypothesis(
     int k,
     const DetectionInput& detection,
     const std::optional<HypothesisScatter>& scatter,
-    const Matrix6d& sqrt_info) {
+    const Matrix6d& sqrt_info,
+    double place_variance) {
   const std::vector<PoseHypothesis>& hyps = detection.hypotheses;
   internal::SixDofObservation six_dof =
       internal::MakeSixDofObservation(hyps, options_.method, sqrt_info);
@@ -164,6 +207,7 @@ int Backend::Impl::AddSingleOrMultiHypothesis(
                                GateSigmaT(detection.class_name, scatter),
                                options_,
                                ClaimFactorT(detection.class_name));
+  scope.place_variance = place_variance;
   int o = internal::FindSixDofMatch(
       map_.objects(), detection.class_name, T_wo_candidates, scope, options_);
   if (o < 0) {
@@ -195,7 +239,8 @@ int Backend::Impl::AddSymba(int k,
                             const DetectionInput& detection,
                             const CategorizedDetection& cat,
                             const std::optional<HypothesisScatter>& scatter,
-                            const Matrix6d& sqrt_info) {
+                            const Matrix6d& sqrt_info,
+                            double place_variance) {
   const KeyframeState& kf = *trajectory_.keyframes()[k];
   const Rigid3d T_wc = kf.T_wc();
   // The map first, then the tentative objects.
@@ -206,6 +251,7 @@ int Backend::Impl::AddSymba(int k,
                                GateSigmaT(detection.class_name, scatter),
                                options_,
                                ClaimFactorT(detection.class_name));
+  scope.place_variance = place_variance;
   auto find = [&]() {
     return internal::FindSymbaMatch(map_.objects(),
                                     T_wc,

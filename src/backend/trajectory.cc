@@ -129,6 +129,10 @@ void Trajectory::AddCameraFactors(int k, const KeyframeInput& input) {
   kf.motion_variance_r = sigma_r * sigma_r;
   kf.motion_from = other;
   KeyframeState& prev = *keyframes_[other];
+  kf.summed_motion_variance_t =
+      prev.summed_motion_variance_t + kf.motion_variance_t;
+  kf.summed_motion_variance_r =
+      prev.summed_motion_variance_r + kf.motion_variance_r;
   FactorRecord record;
   record.cost.reset(RelativePoseFactor::Create(T_other_cur, sqrt_info));
   record.blocks = {prev.q, prev.t, kf.q, kf.t};

@@ -457,6 +457,66 @@ TEST(BackendSequences, ADriftingFrontEndIsPulledBackByAnObjectSeenAgain) {
 }
 
 // ---------------------------------------------------------------------------
+// A place revisited a little off is associated again, without a loop
+// closure: the position gate grows with the camera's uncertainty since the
+// place was last seen (the stated motion variance summed over the steps
+// since; docs/backend.md "Real detectors", 2). The orbit with odometry
+// stated at 1 cm / 0.01 rad per step and a yaw bias of 0.7 deg per
+// featureless keyframe, the table hidden on keyframes 20-34: seen again,
+// the front end is 0.39-0.47 m off and the table's detections lie beyond
+// the gate of one step of odometry (with that gate, seeds 1-3, 6 and 7
+// mapped the table twice and left the camera where the front end put it,
+// 0.49-0.59 m). Seed 5 is left out: its front end is 0.63 m off at the
+// revisit, beyond gate_position.
+TEST(BackendSequences, APlaceRevisitedALittleOffIsAssociatedAgain) {
+  ScriptedSequenceSpec spec = OrbitSpec(Table(SymmetryType::kDiscrete, 2));
+  spec.with_odometry = true;
+  spec.odometry_sigma_t = 0.01;
+  spec.odometry_sigma_r = 0.01;
+  spec.yaw_bias = 0.7 * kDegree;
+  constexpr size_t kHiddenFrom = 20;
+  constexpr size_t kSeenAgain = 35;
+  for (const int seed : {1, 2, 3, 4, 6, 7, 8}) {
+    spec.seed = seed;
+    ScriptedSequence seq = GenerateScriptedSequence(spec);
+    for (size_t k = kHiddenFrom; k < kSeenAgain; ++k) {
+      seq.keyframes[k].detections.clear();
+    }
+    std::unique_ptr<Backend> backend;
+    ASSERT_NO_FATAL_FAILURE(RunSequence(seq, BackendOptions(), &backend));
+    const std::vector<Rigid3d> estimated = EstimatedPoses(*backend);
+    const std::vector<Rigid3d> frontend_poses = FrontendPoses(seq);
+    const std::vector<Rigid3d> truth(seq.T_wc_true.begin() + kSeenAgain,
+                                     seq.T_wc_true.end());
+    const double frontend =
+        Positions(truth,
+                  std::vector<Rigid3d>(frontend_poses.begin() + kSeenAgain,
+                                       frontend_poses.end()))
+            .rmse;
+    const double camera =
+        Positions(truth,
+                  std::vector<Rigid3d>(estimated.begin() + kSeenAgain,
+                                       estimated.end()))
+            .rmse;
+    const double off =
+        (frontend_poses[kSeenAgain].t - seq.T_wc_true[kSeenAgain].t).norm();
+    std::printf(
+        "[ revisited ] seed %d: front end %.3f m off at the revisit; camera "
+        "%.3f m, front end %.3f m over keyframes %zu-%zu\n",
+        seed,
+        off,
+        camera,
+        frontend,
+        kSeenAgain,
+        seq.keyframes.size() - 1);
+    EXPECT_GT(off, 0.35) << seed;  // beyond one step's gate
+    EXPECT_EQ(backend->Objects().size(), 1u) << seed;
+    EXPECT_EQ(backend->Statistics().loop_closures, 0) << seed;
+    EXPECT_LT(camera, 0.3 * frontend) << seed;
+  }
+}
+
+// ---------------------------------------------------------------------------
 // 1. A rectangular table (2-fold, axis z).
 
 TEST(BackendSequences, RectangularTableOneObjectAndTrajectoryWithinNoise) {

@@ -425,6 +425,124 @@ TEST(PositionGate, CombinesDetectionObjectAndPrediction) {
   EXPECT_DOUBLE_EQ(PositionGate(object, scope, options), 0.5);
 }
 
+TEST(PositionGate, GrowsWithTheCamerasMotionSinceThePlaceWasSeen) {
+  BackendOptions options;
+  options.gate_position = 0.5;
+  options.gate_sigmas = 3.0;
+  ObjectState object;
+  object.observations.resize(3);
+  AssociationScope scope;
+  scope.sigma_t = 0.04;
+  scope.prediction_variance = 0.001;
+  scope.place_variance = 0.004;  // the larger one counts
+  EXPECT_NEAR(PositionGate(object, scope, options),
+              3.0 * std::sqrt(0.0016 * 4.0 / 3.0 + 0.004),
+              1e-12);
+  scope.place_variance = 0.0005;
+  EXPECT_NEAR(PositionGate(object, scope, options),
+              3.0 * std::sqrt(0.0016 * 4.0 / 3.0 + 0.001),
+              1e-12);
+}
+
+TEST(PlaceGrowth, SumsTheMotionSinceAnObjectNearTheDetectionWasSeen) {
+  BackendOptions options;  // gate_position 0.5 m
+  std::vector<std::unique_ptr<KeyframeState>> keyframes;
+  for (int k = 0; k < 10; ++k) {  // 1 mm^2 and 1e-4 rad^2 per step
+    keyframes.push_back(std::make_unique<KeyframeState>());
+    keyframes.back()->summed_motion_variance_t = 1e-6 * k;
+    keyframes.back()->summed_motion_variance_r = 1e-4 * k;
+  }
+  const Rigid3d pose(Eigen::Quaterniond::Identity(), {0, 0, 0});
+  ObjectList objects;
+  objects.push_back(
+      AsymmetricObject(0, "chair", pose, ObjectStatus::kConfirmed));
+  objects.push_back(AsymmetricObject(
+      1, "table", Rigid3d(pose.q, {0.3, 0, 0}), ObjectStatus::kTentative));
+  objects.push_back(AsymmetricObject(
+      2, "chair", Rigid3d(pose.q, {2.0, 0, 0}), ObjectStatus::kConfirmed));
+  objects[0]->last_keyframe = 2;
+  objects[1]->last_keyframe = 4;  // the nearby table, any class
+  objects[2]->last_keyframe = 8;  // too far from the detection
+  const Eigen::Vector3d t_w(0.1, 0.0, 0.0);
+  // Keyframe 9, 2 m away: (9 - 4) (1e-6 + 4 * 1e-4).
+  EXPECT_NEAR(PlaceGrowth(objects, keyframes, 9, t_w, 2.0, options),
+              5 * (1e-6 + 4.0 * 1e-4),
+              1e-15);
+  // Seen in this keyframe already: the detection before it counts.
+  objects[1]->previous_keyframe = 4;
+  objects[1]->last_keyframe = 9;
+  EXPECT_NEAR(PlaceGrowth(objects, keyframes, 9, t_w, 2.0, options),
+              5 * (1e-6 + 4.0 * 1e-4),
+              1e-15);
+  // A dropped object is no place; nothing seen near it: no growth.
+  objects[1]->status = ObjectStatus::kDropped;
+  EXPECT_NEAR(PlaceGrowth(objects, keyframes, 9, t_w, 2.0, options),
+              7 * (1e-6 + 4.0 * 1e-4),
+              1e-15);
+  objects[0]->last_keyframe = -1;
+  EXPECT_EQ(PlaceGrowth(objects, keyframes, 9, t_w, 2.0, options), 0.0);
+}
+
+// Two detections of a keyframe 2 m from the camera, the object's noise 3
+// cm: one step's gate 5 sqrt(0.03^2 (1 + 1/1) + 1e-4) = 0.218 m, the gate
+// grown by 0.01 m^2 min(0.5, 0.543) = 0.5 m.
+RevisitDetection Revisiting(const std::string& class_name,
+                            const Eigen::Vector3d& t_w,
+                            double place_variance) {
+  static const std::string chair = "chair";
+  static const std::string table = "table";
+  RevisitDetection detection;
+  detection.class_name = class_name == chair ? &chair : &table;
+  detection.t_w = t_w;
+  detection.distance = 2.0;
+  detection.scope.sigma_t = 0.03;
+  detection.scope.prediction_variance = 1e-4;
+  detection.scope.place_variance = place_variance;
+  return detection;
+}
+
+TEST(RevisitVariances, AGrownGateNeedsAPlaceOfOneObjectOrAShiftTheOthersShare) {
+  BackendOptions options;  // gate_position 0.5 m, gate_sigmas 5
+  const Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  ObjectList objects;
+  objects.push_back(AsymmetricObject(
+      0, "chair", Rigid3d(q, {0, 0, 0}), ObjectStatus::kConfirmed));
+  // A place of one object, 0.3 m off: beyond one step's gate, within the
+  // grown one.
+  EXPECT_EQ(RevisitVariances(
+                objects, {Revisiting("chair", {0.3, 0, 0}, 0.01)}, options),
+            (std::vector<double>{0.01}));
+  // Within one step's gate: no growth needed; a growth smaller than one
+  // step's: none.
+  EXPECT_EQ(RevisitVariances(
+                objects, {Revisiting("chair", {0.1, 0, 0}, 0.01)}, options),
+            (std::vector<double>{0.0}));
+  EXPECT_EQ(RevisitVariances(
+                objects, {Revisiting("chair", {0.3, 0, 0}, 5e-5)}, options),
+            (std::vector<double>{0.0}));
+  // A table 1 m away (within the detections' 2 m): the chair needs the
+  // table's detection moved by the same shift, and gives the table its.
+  objects.push_back(AsymmetricObject(
+      1, "table", Rigid3d(q, {1, 0, 0}), ObjectStatus::kConfirmed));
+  EXPECT_EQ(RevisitVariances(objects,
+                             {Revisiting("chair", {0.3, 0, 0}, 0.01),
+                              Revisiting("table", {1.3, 0.05, 0}, 0.01)},
+                             options),
+            (std::vector<double>{0.01, 0.01}));
+  // The table's detection does not move with the chair's (0.67 m from the
+  // table once moved): the chair's detection may have been carried near
+  // this chair from elsewhere, and keeps one step's gate.
+  EXPECT_EQ(RevisitVariances(objects,
+                             {Revisiting("chair", {0.3, 0, 0}, 0.01),
+                              Revisiting("table", {1.0, 0.6, 0}, 0.01)},
+                             options),
+            (std::vector<double>{0.0, 0.0}));
+  // Alone in the keyframe, with the table in the place: nothing shares it.
+  EXPECT_EQ(RevisitVariances(
+                objects, {Revisiting("chair", {0.3, 0, 0}, 0.01)}, options),
+            (std::vector<double>{0.0}));
+}
+
 TEST(FindSixDofMatch, GatesPositionRotationClassAndStatus) {
   BackendOptions options;  // gate 0.5 m, 30 deg
   ObjectList objects;

@@ -266,6 +266,7 @@ void BindEstimates(py::module_& m) {
       .def_readonly("loop_closure_seconds", &S::loop_closure_seconds)
       .def_readonly("object_loop_closures", &S::object_loop_closures)
       .def_readonly("objects_merged", &S::objects_merged)
+      .def_readonly("revisits_moved_past", &S::revisits_moved_past)
       .def("__repr__", [](const py::handle& self) {
         return AttributeRepr(self,
                              "BackendStatistics",
@@ -285,7 +286,8 @@ void BindEstimates(py::module_& m) {
                               "solve_iterations",
                               "loop_closures",
                               "object_loop_closures",
-                              "objects_merged"});
+                              "objects_merged",
+                              "revisits_moved_past"});
       });
 
   using P = LoopObjectPair;

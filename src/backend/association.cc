@@ -30,24 +30,29 @@ AssociationScope DetectionScope(const DetectionInput& detection,
   return scope;
 }
 
-double PlaceGrowth(const ObjectList& objects,
-                   const std::vector<std::unique_ptr<KeyframeState>>& keyframes,
-                   int k,
-                   const Eigen::Vector3d& t_w,
-                   double distance,
-                   const BackendOptions& options) {
+int PlaceLastSeen(const ObjectList& objects,
+                  int k,
+                  const Eigen::Vector3d& t_w,
+                  const BackendOptions& options) {
   int seen = -1;
   for (const auto& object : objects) {
     if (object->status == ObjectStatus::kDropped) continue;
     const int before = object->LastSeenBefore(k);
-    if (before <= seen) continue;
-    if ((object->position() - t_w).norm() <= options.gate_position) {
+    if (before > seen &&
+        (object->position() - t_w).norm() <= options.gate_position) {
       seen = before;
     }
   }
-  if (seen < 0) return 0.0;
+  return seen;
+}
+
+double PlaceGrowth(const std::vector<std::unique_ptr<KeyframeState>>& keyframes,
+                   int j,
+                   int k,
+                   double distance) {
+  if (j < 0) return 0.0;
   const KeyframeState& now = *keyframes[k];
-  const KeyframeState& then = *keyframes[seen];
+  const KeyframeState& then = *keyframes[j];
   return (now.summed_motion_variance_t - then.summed_motion_variance_t) +
          distance * distance *
              (now.summed_motion_variance_r - then.summed_motion_variance_r);

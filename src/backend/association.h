@@ -79,20 +79,23 @@ AssociationScope DetectionScope(const DetectionInput& detection,
                                 const BackendOptions& options,
                                 double claim_factor_t = 1.0);
 
-// The camera's uncertainty relative to where the detection lies, grown
-// since that place was last seen (docs/backend.md "Real detectors", 2):
-// with j the latest keyframe before keyframe k in which an object (any
-// class, any status but dropped) within gate_position of the detection's
-// world position t_w was detected, the motion variances summed along the
-// chain from j to k, the rotation's at the detection's distance d:
-// (V_t(k) - V_t(j)) + d^2 (V_r(k) - V_r(j)) (KeyframeState::summed_motion_variance_*).
-// 0 where no such object was seen before keyframe k.
-double PlaceGrowth(const ObjectList& objects,
-                   const std::vector<std::unique_ptr<KeyframeState>>& keyframes,
+// The latest keyframe before keyframe k in which an object (any class,
+// any status but dropped) within gate_position of t_w was detected: when
+// the place the detection lies in was last seen (-1: never).
+int PlaceLastSeen(const ObjectList& objects,
+                  int k,
+                  const Eigen::Vector3d& t_w,
+                  const BackendOptions& options);
+
+// The camera's uncertainty relative to a place last seen in keyframe j, at
+// keyframe k, for a detection at `distance` (docs/backend.md "Real
+// detectors", 2): the motion variances summed along the chain from j to k,
+// the rotation's at that distance, (V_t(k) - V_t(j)) + d^2 (V_r(k) -
+// V_r(j)) (KeyframeState::summed_motion_variance_*); 0 for j < 0.
+double PlaceGrowth(const std::vector<std::unique_ptr<KeyframeState>>& keyframes,
+                   int j,
                    int k,
-                   const Eigen::Vector3d& t_w,
-                   double distance,
-                   const BackendOptions& options);
+                   double distance);
 
 // One detection of a keyframe as the revisit test (RevisitVariances) sees
 // it: its class, where the predicted camera puts it, its distance from

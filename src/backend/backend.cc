@@ -178,7 +178,10 @@ Status Backend::Impl::AddKeyframe(
   // Nothing below can fail: the keyframe is added whole.
   const size_t first_assignment = assignments_.size();
   const int k = trajectory_.Add(input);
-  const std::vector<double> revisit = RevisitVariances(k, input);
+  bool revisit_before_window = false;
+  const std::vector<double> revisit =
+      RevisitVariances(k, input, &revisit_before_window);
+  revisit_pending_ = revisit_pending_ || revisit_before_window;
   for (size_t d = 0; d < input.detections.size(); ++d) {
     AddDetection(k,
                  input.detections[d],
@@ -245,6 +248,8 @@ Status Backend::Impl::OptimizeWindow(SolveReport* report) {
     closed = !pending_loops_.empty();
     ClosePendingLoops();
     closed = DetectObjectLoop() || closed;
+    if (revisit_pending_ && !closed) closed = MovePastForRevisit();
+    revisit_pending_ = false;
   }
   if (closed) {
     // The window again, from the moved past, with the loop constraints and

@@ -86,8 +86,11 @@ class Backend::Impl {
                     double place_variance);
   // Per detection of keyframe k, the variance its position gate takes for
   // the camera's motion since the place was last seen (0: one step's;
-  // internal::RevisitVariances).
-  std::vector<double> RevisitVariances(int k, const KeyframeInput& input) const;
+  // internal::RevisitVariances); `before_window`: whether one of those
+  // places was last seen before the window.
+  std::vector<double> RevisitVariances(int k,
+                                       const KeyframeInput& input,
+                                       bool* before_window) const;
   // What a declared sigma_t of the class is multiplied by (1: the claims
   // hold; ObjectEdges::ApplyNoise).
   double ClaimFactorT(const std::string& class_name) const;
@@ -140,6 +143,18 @@ class Backend::Impl {
   LoopClosureReport WaitingReport(int k, const LoopClosureInput& closure) const;
   // The keyframes' loop closures waiting for their window solve.
   void ClosePendingLoops();
+  // The keyframe graph optimised, every keyframe, object, point and prior
+  // moved with it (the part of a loop closure after its constraint), unless
+  // it would move keyframe k by less than `min_correction_m`.
+  void MovePastByGraph(int k,
+                       double min_correction_m,
+                       LoopClosureReport* report);
+  // After a window solve whose keyframe revisited a place last seen before
+  // the window (revisit_pending_): the keyframe graph moves the past as a
+  // loop closure would, without a constraint (the objects' edges close it),
+  // where it moves the newest keyframe by at least one motion step's
+  // translation noise. Whether it moved anything.
+  bool MovePastForRevisit();
   // Loops found from the objects (object_loops.cc): after a window solve
   // that follows an object's confirmation, a loop closed where the recent
   // objects match earlier ones (CloseLoopFromObjects), then the duplicates
@@ -210,6 +225,9 @@ class Backend::Impl {
   bool map_loaded_ = false;  // LoadMap succeeded (once per backend)
   std::vector<internal::LoopConstraint> loops_;
   std::vector<std::pair<int, LoopClosureInput>> pending_loops_;
+  // A detection of the newest keyframe was associated through a gate grown
+  // since its place was last seen before the window (RevisitVariances).
+  bool revisit_pending_ = false;
   // Keyframes before this index have been through a solve: a closure of a
   // later one waits for the next (its pose is a prediction until then).
   int solved_keyframes_ = 0;

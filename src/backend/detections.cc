@@ -67,11 +67,14 @@ double Backend::Impl::ClaimFactorT(const std::string& class_name) const {
   return edges_.AppliedNoise(class_name).claim_scale_t.value_or(1.0);
 }
 
-std::vector<double> Backend::Impl::RevisitVariances(
-    int k, const KeyframeInput& input) const {
+std::vector<double> Backend::Impl::RevisitVariances(int k,
+                                                    const KeyframeInput& input,
+                                                    bool* before_window) const {
   const KeyframeState& kf = *trajectory_.keyframes()[k];
   const Rigid3d T_wc = kf.T_wc();
+  const int window_begin = k + 1 - options_.window_size;
   std::vector<internal::RevisitDetection> detections;
+  std::vector<int> seen;
   for (size_t d = 0; d < input.detections.size(); ++d) {
     const DetectionInput& detection = input.detections[d];
     // Where its association will look from: the categorisation's position,
@@ -94,16 +97,20 @@ std::vector<double> Backend::Impl::RevisitVariances(
                                  GateSigmaT(detection.class_name, scatters_[d]),
                                  options_,
                                  ClaimFactorT(detection.class_name));
-    revisit.scope.place_variance =
-        internal::PlaceGrowth(map_.objects(),
-                              trajectory_.keyframes(),
-                              k,
-                              revisit.t_w,
-                              revisit.distance,
-                              options_);
+    seen.push_back(
+        internal::PlaceLastSeen(map_.objects(), k, revisit.t_w, options_));
+    revisit.scope.place_variance = internal::PlaceGrowth(
+        trajectory_.keyframes(), seen.back(), k, revisit.distance);
     detections.push_back(revisit);
   }
-  return internal::RevisitVariances(map_.objects(), detections, options_);
+  std::vector<double> variances =
+      internal::RevisitVariances(map_.objects(), detections, options_);
+  *before_window = false;
+  for (size_t d = 0; d < variances.size(); ++d) {
+    *before_window =
+        *before_window || (variances[d] > 0.0 && seen[d] < window_begin);
+  }
+  return variances;
 }
 
 void Backend::Impl::AddDetection(

@@ -117,46 +117,7 @@ LoopClosureReport Backend::Impl::CloseLoop(int k,
   const int window_begin =
       static_cast<int>(keyframes.size()) - options_.window_size;
   if (loop.earlier < std::max(window_begin, graph_.marginalized_until())) {
-    const std::vector<internal::GraphObject> objects = GraphObjects();
-    std::vector<Rigid3d> keyframe_poses;
-    std::vector<Rigid3d> object_poses;
-    PoseGraphSolveSummary summary;
-    const Status status = internal::OptimizeKeyframeGraph(keyframes,
-                                                          window_begin,
-                                                          loops_,
-                                                          objects,
-                                                          &keyframe_poses,
-                                                          &object_poses,
-                                                          &summary);
-    if (status.ok()) {
-      const Rigid3d before = keyframes[k]->T_wc();
-      // The window moves as one: its solves made its keyframes, objects and
-      // points agree, and a bend inside it could put a point behind a
-      // camera. It takes the newest keyframe's correction.
-      std::vector<Rigid3d> moves(keyframes.size());
-      for (size_t i = 0; i < keyframes.size(); ++i) {
-        moves[i] = keyframe_poses[i] * keyframes[i]->T_wc().Inverse();
-      }
-      for (size_t i = std::max(0, window_begin); i < keyframes.size(); ++i) {
-        moves[i] = moves.back();
-      }
-      for (const Rigid3d& step : moves) {
-        if (step.t.norm() > 1e-3 || AngleDeg(step.q) > 0.01) {
-          ++report.keyframes_moved;
-        }
-      }
-      MovePast(moves,
-               ObjectMoves(moves, objects, object_poses, window_begin),
-               window_begin);
-      const Rigid3d step = keyframes[k]->T_wc() * before.Inverse();
-      report.moved_past = true;
-      report.correction_m = (keyframes[k]->T_wc().t - before.t).norm();
-      report.correction_deg = AngleDeg(step.q);
-      report.initial_cost = summary.given_cost;
-      report.final_cost = summary.final_cost;
-    } else {
-      report.message = status.message();
-    }
+    MovePastByGraph(k, 0.0, &report);
   }
   if (report.message.empty()) {
     // The constraint, in every later solve that holds the later keyframe.
@@ -183,6 +144,72 @@ LoopClosureReport Backend::Impl::CloseLoop(int k,
   statistics_.loop_closure_seconds += report.seconds;
   loop_closures_.push_back(report);
   return report;
+}
+
+void Backend::Impl::MovePastByGraph(int k,
+                                    double min_correction_m,
+                                    LoopClosureReport* out) {
+  LoopClosureReport& report = *out;
+  const internal::KeyframeList& keyframes = trajectory_.keyframes();
+  const int window_begin =
+      static_cast<int>(keyframes.size()) - options_.window_size;
+  const std::vector<internal::GraphObject> objects = GraphObjects();
+  std::vector<Rigid3d> keyframe_poses;
+  std::vector<Rigid3d> object_poses;
+  PoseGraphSolveSummary summary;
+  const Status status = internal::OptimizeKeyframeGraph(keyframes,
+                                                        window_begin,
+                                                        loops_,
+                                                        objects,
+                                                        &keyframe_poses,
+                                                        &object_poses,
+                                                        &summary);
+  if (status.ok() && (keyframe_poses[k].t - keyframes[k]->T_wc().t).norm() <
+                         min_correction_m) {
+    return;  // the past stays as the window left it
+  }
+  if (status.ok()) {
+    const Rigid3d before = keyframes[k]->T_wc();
+    // The window moves as one: its solves made its keyframes, objects and
+    // points agree, and a bend inside it could put a point behind a
+    // camera. It takes the newest keyframe's correction.
+    std::vector<Rigid3d> moves(keyframes.size());
+    for (size_t i = 0; i < keyframes.size(); ++i) {
+      moves[i] = keyframe_poses[i] * keyframes[i]->T_wc().Inverse();
+    }
+    for (size_t i = std::max(0, window_begin); i < keyframes.size(); ++i) {
+      moves[i] = moves.back();
+    }
+    for (const Rigid3d& step : moves) {
+      if (step.t.norm() > 1e-3 || AngleDeg(step.q) > 0.01) {
+        ++report.keyframes_moved;
+      }
+    }
+    MovePast(moves,
+             ObjectMoves(moves, objects, object_poses, window_begin),
+             window_begin);
+    const Rigid3d step = keyframes[k]->T_wc() * before.Inverse();
+    report.moved_past = true;
+    report.correction_m = (keyframes[k]->T_wc().t - before.t).norm();
+    report.correction_deg = AngleDeg(step.q);
+    report.initial_cost = summary.given_cost;
+    report.final_cost = summary.final_cost;
+  } else {
+    report.message = status.message();
+  }
+}
+
+bool Backend::Impl::MovePastForRevisit() {
+  // Below one motion step's translation noise the graph's correction is
+  // within what the window absorbs, and the graph (no map points, the
+  // stated motion noise) is an approximation of the run: the past stays.
+  const int k = static_cast<int>(trajectory_.keyframes().size()) - 1;
+  LoopClosureReport report;
+  MovePastByGraph(
+      k, std::sqrt(trajectory_.keyframes()[k]->motion_variance_t), &report);
+  if (!report.moved_past) return false;
+  ++statistics_.revisits_moved_past;
+  return true;
 }
 
 std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {

@@ -218,6 +218,7 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
       .Member("objects_turned", s.objects_turned)
       .Member("objects_dropped", s.objects_dropped)
       .Member("objects_merged", s.objects_merged)
+      .Member("revisits_moved_past", s.revisits_moved_past)
       .Member("rotation_outliers", s.rotation_outliers)
       .Member("folded_angles", s.folded_angles)
       .Member("marginalized_keyframes", s.marginalized_keyframes)

@@ -444,14 +444,8 @@ TEST(PositionGate, GrowsWithTheCamerasMotionSinceThePlaceWasSeen) {
               1e-12);
 }
 
-TEST(PlaceGrowth, SumsTheMotionSinceAnObjectNearTheDetectionWasSeen) {
+TEST(PlaceLastSeen, IsTheLatestKeyframeBeforeThisOneThatSawAnObjectNearby) {
   BackendOptions options;  // gate_position 0.5 m
-  std::vector<std::unique_ptr<KeyframeState>> keyframes;
-  for (int k = 0; k < 10; ++k) {  // 1 mm^2 and 1e-4 rad^2 per step
-    keyframes.push_back(std::make_unique<KeyframeState>());
-    keyframes.back()->summed_motion_variance_t = 1e-6 * k;
-    keyframes.back()->summed_motion_variance_r = 1e-4 * k;
-  }
   const Rigid3d pose(Eigen::Quaterniond::Identity(), {0, 0, 0});
   ObjectList objects;
   objects.push_back(
@@ -464,23 +458,28 @@ TEST(PlaceGrowth, SumsTheMotionSinceAnObjectNearTheDetectionWasSeen) {
   objects[1]->last_keyframe = 4;  // the nearby table, any class
   objects[2]->last_keyframe = 8;  // too far from the detection
   const Eigen::Vector3d t_w(0.1, 0.0, 0.0);
-  // Keyframe 9, 2 m away: (9 - 4) (1e-6 + 4 * 1e-4).
-  EXPECT_NEAR(PlaceGrowth(objects, keyframes, 9, t_w, 2.0, options),
-              5 * (1e-6 + 4.0 * 1e-4),
-              1e-15);
+  EXPECT_EQ(PlaceLastSeen(objects, 9, t_w, options), 4);
   // Seen in this keyframe already: the detection before it counts.
   objects[1]->previous_keyframe = 4;
   objects[1]->last_keyframe = 9;
-  EXPECT_NEAR(PlaceGrowth(objects, keyframes, 9, t_w, 2.0, options),
-              5 * (1e-6 + 4.0 * 1e-4),
-              1e-15);
-  // A dropped object is no place; nothing seen near it: no growth.
+  EXPECT_EQ(PlaceLastSeen(objects, 9, t_w, options), 4);
+  // A dropped object is no place; nothing seen near the detection: -1.
   objects[1]->status = ObjectStatus::kDropped;
-  EXPECT_NEAR(PlaceGrowth(objects, keyframes, 9, t_w, 2.0, options),
-              7 * (1e-6 + 4.0 * 1e-4),
-              1e-15);
+  EXPECT_EQ(PlaceLastSeen(objects, 9, t_w, options), 2);
   objects[0]->last_keyframe = -1;
-  EXPECT_EQ(PlaceGrowth(objects, keyframes, 9, t_w, 2.0, options), 0.0);
+  EXPECT_EQ(PlaceLastSeen(objects, 9, t_w, options), -1);
+}
+
+TEST(PlaceGrowth, SumsTheMotionVariancesSinceThePlaceWasSeen) {
+  std::vector<std::unique_ptr<KeyframeState>> keyframes;
+  for (int k = 0; k < 10; ++k) {  // 1 mm^2 and 1e-4 rad^2 per step
+    keyframes.push_back(std::make_unique<KeyframeState>());
+    keyframes.back()->summed_motion_variance_t = 1e-6 * k;
+    keyframes.back()->summed_motion_variance_r = 1e-4 * k;
+  }
+  // Seen at keyframe 4, now keyframe 9, 2 m away: 5 (1e-6 + 4 * 1e-4).
+  EXPECT_NEAR(PlaceGrowth(keyframes, 4, 9, 2.0), 5 * (1e-6 + 4e-4), 1e-15);
+  EXPECT_EQ(PlaceGrowth(keyframes, -1, 9, 2.0), 0.0);  // never seen
 }
 
 // Two detections of a keyframe 2 m from the camera, the object's noise 3

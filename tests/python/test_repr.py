@@ -40,7 +40,7 @@ def test_replay_results(source_dir):
         r"folded_angles=0, marginalized_keyframes=0, "
         r"ambiguous_edges_dropped=0, solves=4, solve_seconds=[0-9.e-]+, "
         r"solve_iterations=4, loop_closures=0, object_loop_closures=0, "
-        r"objects_merged=0\)", repr(result.statistics))
+        r"objects_merged=0, revisits_moved_past=0\)", repr(result.statistics))
     assert re.fullmatch(
         r"SolveReport\(iterations=1, initial_cost=[0-9.e-]+, "
         r"final_cost=[0-9.e-]+, seconds=[0-9.e-]+, converged=True, "

@@ -371,6 +371,21 @@ TEST(ReplaySummaryJson, LoopClosuresCountTheWaitingOnesApart) {
   ExpectMembersInOrder(json, members);
 }
 
+// The counts: a revisit that moved the past without a loop closure is
+// counted after the merged duplicates.
+TEST(ReplayLoopClosures, ARevisitThatMovedThePastIsCounted) {
+  ReplayResult result;
+  result.statistics.objects_merged = 3;
+  result.statistics.revisits_moved_past = 2;
+  const std::string json =
+      FormatReplaySummaryJson("log.jsonl", ReplayOptions(), result);
+  ExpectMembersInOrder(json,
+                       {"\"counts\": {",
+                        "\"objects_merged\": 3",
+                        "\"revisits_moved_past\": 2",
+                        "\"rotation_outliers\": 0"});
+}
+
 // A loop found from the objects: counted in summary.json, its recognised
 // pairs ("MAP:DUPLICATE") and how many were merged in loop_closures.csv.
 TEST(ReplayLoopClosures, ALoopFromObjectsListsItsPairs) {

@@ -90,6 +90,10 @@ struct BackendStatistics {
   double loop_closure_seconds = 0.0;
   int object_loop_closures = 0;  // closed loops symba found from the objects
   int objects_merged = 0;        // duplicates merged into the objects they are
+  // places revisited a little off (associated again through a gate grown
+  // since they were last seen before the window) whose keyframe graph then
+  // moved the past, as a loop closure does but without one
+  int revisits_moved_past = 0;
 };
 
 class Backend {

@@ -62,6 +62,7 @@ namespace {
 
 AssociationScope OneStep(AssociationScope scope) {
   scope.place_variance = 0.0;
+  scope.place_object = nullptr;
   return scope;
 }
 
@@ -112,18 +113,22 @@ bool ShiftExplainsThePlace(const ObjectList& objects,
 
 }  // namespace
 
-std::vector<double> RevisitVariances(
+std::vector<RevisitGate> RevisitGates(
     const ObjectList& objects,
     const std::vector<RevisitDetection>& detections,
     const BackendOptions& options) {
-  std::vector<double> variances(detections.size(), 0.0);
+  std::vector<RevisitGate> gates(detections.size());
   for (size_t i = 0; i < detections.size(); ++i) {
     const RevisitDetection& detection = detections[i];
     if (detection.scope.place_variance <= detection.scope.prediction_variance) {
       continue;
     }
     const AssociationScope one_step = OneStep(detection.scope);
-    for (size_t o = 0; o < objects.size(); ++o) {
+    AssociationScope grown = detection.scope;
+    int nearest = -1;
+    double nearest_distance = std::numeric_limits<double>::infinity();
+    bool within_one_step = false;
+    for (size_t o = 0; o < objects.size() && !within_one_step; ++o) {
       const ObjectState& object = *objects[o];
       if (object.status == ObjectStatus::kDropped ||
           object.class_name != *detection.class_name) {
@@ -131,19 +136,24 @@ std::vector<double> RevisitVariances(
       }
       const Eigen::Vector3d shift = object.position() - detection.t_w;
       const double d = shift.norm();
-      if (d <= PositionGate(object, one_step, options) ||
-          d > PositionGate(object, detection.scope, options)) {
+      within_one_step = d <= PositionGate(object, one_step, options);
+      grown.place_object = &object;
+      if (within_one_step || d >= nearest_distance ||
+          d > PositionGate(object, grown, options)) {
         continue;
       }
       if (AloneWithin(objects, o, detection.distance) ||
           ShiftExplainsThePlace(
               objects, detections, i, o, shift, detection.distance, options)) {
-        variances[i] = detection.scope.place_variance;
-        break;
+        nearest = static_cast<int>(o);
+        nearest_distance = d;
       }
     }
+    if (!within_one_step && nearest >= 0) {
+      gates[i] = RevisitGate{detection.scope.place_variance, nearest};
+    }
   }
-  return variances;
+  return gates;
 }
 
 double PositionGate(const ObjectState& object,
@@ -154,7 +164,9 @@ double PositionGate(const ObjectState& object,
   }
   const double n = std::max<size_t>(1, object.observations.size());
   const double prediction =
-      std::max(scope.prediction_variance, scope.place_variance);
+      &object == scope.place_object
+          ? std::max(scope.prediction_variance, scope.place_variance)
+          : scope.prediction_variance;
   const double variance =
       *scope.sigma_t * *scope.sigma_t * (1.0 + 1.0 / n) + prediction;
   return std::min(options.gate_position,

@@ -24,7 +24,8 @@
 //   confirmed map first, then tentative objects). The position gate is
 //   gate_position, or, once the detection's noise is known, that noise
 //   with the object's (n observations) and the predicted camera's (one
-//   motion step, or the steps since the place was last seen: PlaceGrowth),
+//   motion step, or the steps since the place was last seen: PlaceGrowth,
+//   RevisitGates),
 //   times gate_sigmas, if that is smaller (PositionGate).
 //   angles      a discrete object's angle within gate_angle of the twist
 //               the detection shows, else a new angle.
@@ -60,8 +61,10 @@ struct AssociationScope {
   // position (m^2): one step of the camera motion noise at its distance.
   double prediction_variance = 0.0;
   // The variance the camera's motion since the place was last seen adds
-  // (m^2; PlaceGrowth), if larger than prediction_variance.
+  // (m^2; PlaceGrowth), if larger than prediction_variance, to the gate of
+  // `place_object` only (RevisitGates).
   double place_variance = 0.0;
+  const ObjectState* place_object = nullptr;
 };
 
 // The scope of a detection in keyframe `kf` seen at t_co (confirmed
@@ -89,15 +92,15 @@ int PlaceLastSeen(const ObjectList& objects,
 
 // The camera's uncertainty relative to a place last seen in keyframe j, at
 // keyframe k, for a detection at `distance` (docs/backend.md "Real
-// detectors", 2): the motion variances summed along the chain from j to k,
-// the rotation's at that distance, (V_t(k) - V_t(j)) + d^2 (V_r(k) -
-// V_r(j)) (KeyframeState::summed_motion_variance_*); 0 for j < 0.
+// detectors", 2): the motion variances of keyframes j + 1 .. k summed, the
+// rotation's at that distance, (V_t(k) - V_t(j)) + d^2 (V_r(k) - V_r(j))
+// (KeyframeState::summed_motion_variance_*); 0 for j < 0.
 double PlaceGrowth(const std::vector<std::unique_ptr<KeyframeState>>& keyframes,
                    int j,
                    int k,
                    double distance);
 
-// One detection of a keyframe as the revisit test (RevisitVariances) sees
+// One detection of a keyframe as the revisit test (RevisitGates) sees
 // it: its class, where the predicted camera puts it, its distance from
 // the camera, and its scope (one step's prediction_variance; PlaceGrowth's
 // place_variance).
@@ -108,25 +111,35 @@ struct RevisitDetection {
   AssociationScope scope;
 };
 
-// Per detection of a keyframe, the place_variance its position gate may
-// take: PlaceGrowth's, where a grown gate reaches an object of its class
-// that one step's gate does not (a revisit, off by Delta = the object's
-// position - the detection's) and either no other object lies within the
+// What a detection's gate takes for a revisit: the grown variance and the
+// one object it applies to (-1: none, one step's gate for every object).
+struct RevisitGate {
+  double variance = 0.0;  // m^2
+  int object = -1;        // index into the objects
+};
+
+// Per detection of a keyframe, its RevisitGate (docs/backend.md "Real
+// detectors", 2). None where an object of its class lies within one step's
+// gate (no revisit), or its place_variance does not exceed one step's.
+// Otherwise the nearest of the objects of its class that the grown gate
+// reaches and one step's does not (off by Delta = the object's position -
+// the detection's) for which either no other object lies within the
 // detection's distance from the camera of that object (a place of one
-// object), or another detection of the keyframe, moved by Delta, lies
-// within one step's gate of another object of its class (the place seen
-// off by the same shift); else 0. A detection of one object that the
-// drift carried near another of its class is so kept from it when the
-// place's other detections do not move with it.
-std::vector<double> RevisitVariances(
+// object), or
+// more of the keyframe's other detections near it, moved by Delta, fall
+// within one step's gate of an object of their class (other than it) than
+// do not (the place seen off by the same shift). A detection of one object
+// that the drift carried near another of its class is so kept from it when
+// the place's other detections do not move with it.
+std::vector<RevisitGate> RevisitGates(
     const ObjectList& objects,
     const std::vector<RevisitDetection>& detections,
     const BackendOptions& options);
 
 // The position gate (m) of `object` for a detection in `scope`:
 // min(gate_position, gate_sigmas * sqrt(sigma_t^2 (1 + 1/n) +
-// max(prediction_variance, place_variance))) once sigma_t is known,
-// gate_position before.
+// max(prediction_variance, place_variance))) once sigma_t is known (the
+// place_variance for scope.place_object only), gate_position before.
 double PositionGate(const ObjectState& object,
                     const AssociationScope& scope,
                     const BackendOptions& options);

@@ -178,17 +178,14 @@ Status Backend::Impl::AddKeyframe(
   // Nothing below can fail: the keyframe is added whole.
   const size_t first_assignment = assignments_.size();
   const int k = trajectory_.Add(input);
-  bool revisit_before_window = false;
-  const std::vector<double> revisit =
-      RevisitVariances(k, input, &revisit_before_window);
-  revisit_pending_ = revisit_pending_ || revisit_before_window;
+  const std::vector<Revisit> revisits = Revisits(k, input);
   for (size_t d = 0; d < input.detections.size(); ++d) {
     AddDetection(k,
                  input.detections[d],
                  options_.method == Method::kSymba ? &categorized_[d] : nullptr,
                  scatters_[d],
                  DetectionId(input, d),
-                 revisit[d]);
+                 revisits[d]);
   }
   map_.UpdateTentative(k);
   if (options_.min_support > 0.0) {
@@ -277,6 +274,7 @@ Status Backend::Impl::OptimizeBatch(SolveReport* report) {
   internal::SolveOutcome outcome;
   const Status status = graph_.SolveBatch(&outcome);
   if (!status.ok()) return status;
+  revisit_pending_ = false;  // every factor solved at once: nothing bends
   return Finish("batch", outcome, start, report);
 }
 

@@ -78,19 +78,26 @@ class Backend::Impl {
   // Detections, per method (detections.cc). CategorizeDetections runs before
   // anything of the keyframe is added, so a failing detection adds nothing.
   Status CategorizeDetections(const KeyframeInput& input);
+  // Per detection of keyframe k, what its position gate takes for the
+  // camera's motion since its place was last seen (internal::RevisitGates)
+  // and whether that place was last seen before the window.
+  struct Revisit {
+    internal::RevisitGate gate;
+    bool before_window = false;
+  };
+  std::vector<Revisit> Revisits(int k, const KeyframeInput& input) const;
   void AddDetection(int k,
                     const DetectionInput& detection,
                     const CategorizedDetection* categorized,
                     const std::optional<HypothesisScatter>& scatter,
                     const std::string& detection_id,
-                    double place_variance);
-  // Per detection of keyframe k, the variance its position gate takes for
-  // the camera's motion since the place was last seen (0: one step's;
-  // internal::RevisitVariances); `before_window`: whether one of those
-  // places was last seen before the window.
-  std::vector<double> RevisitVariances(int k,
-                                       const KeyframeInput& input,
-                                       bool* before_window) const;
+                    const Revisit& revisit);
+  // The grown gate into the detection's association scope.
+  void ApplyRevisit(const Revisit& revisit,
+                    internal::AssociationScope* scope) const;
+  // Sets revisit_pending_ where the detection went to the object its grown
+  // gate reached, in a place last seen before the window.
+  void NoteRevisit(const Revisit& revisit, int object);
   // What a declared sigma_t of the class is multiplied by (1: the claims
   // hold; ObjectEdges::ApplyNoise).
   double ClaimFactorT(const std::string& class_name) const;
@@ -104,13 +111,13 @@ class Backend::Impl {
       const DetectionInput& detection,
       const std::optional<HypothesisScatter>& scatter,
       const Matrix6d& sqrt_info,
-      double place_variance);
+      const Revisit& revisit);
   int AddSymba(int k,
                const DetectionInput& detection,
                const CategorizedDetection& cat,
                const std::optional<HypothesisScatter>& scatter,
                const Matrix6d& sqrt_info,
-               double place_variance);
+               const Revisit& revisit);
   // The position noise the association gate takes for a detection of
   // `class_name` without sigmas: its scatter held to the class's white
   // part, or the class's estimate (nullopt: gate_position alone).
@@ -226,7 +233,7 @@ class Backend::Impl {
   std::vector<internal::LoopConstraint> loops_;
   std::vector<std::pair<int, LoopClosureInput>> pending_loops_;
   // A detection of the newest keyframe was associated through a gate grown
-  // since its place was last seen before the window (RevisitVariances).
+  // since its place was last seen before the window (NoteRevisit).
   bool revisit_pending_ = false;
   // Keyframes before this index have been through a solve: a closure of a
   // later one waits for the next (its pose is a prediction until then).

@@ -59,9 +59,9 @@ struct KeyframeState {
   // The keyframe (index) its camera motion factor relates it to: the
   // previous one (odometry), or the last the front end posed (-1: none).
   int motion_from = -1;
-  // The motion variances summed along the motion factors from the first
-  // keyframe (m^2, rad^2): what the camera's uncertainty grows by between
-  // two keyframes of the chain, as the odometry states it.
+  // The motion variances of every keyframe since the first summed (m^2,
+  // rad^2): what the camera's uncertainty grows by between two keyframes,
+  // as the motion factors state it.
   double summed_motion_variance_t = 0.0;
   double summed_motion_variance_r = 0.0;
   // Every factor touching this keyframe while it is in the window (freed

@@ -67,9 +67,8 @@ double Backend::Impl::ClaimFactorT(const std::string& class_name) const {
   return edges_.AppliedNoise(class_name).claim_scale_t.value_or(1.0);
 }
 
-std::vector<double> Backend::Impl::RevisitVariances(int k,
-                                                    const KeyframeInput& input,
-                                                    bool* before_window) const {
+std::vector<Backend::Impl::Revisit> Backend::Impl::Revisits(
+    int k, const KeyframeInput& input) const {
   const KeyframeState& kf = *trajectory_.keyframes()[k];
   const Rigid3d T_wc = kf.T_wc();
   const int window_begin = k + 1 - options_.window_size;
@@ -103,14 +102,30 @@ std::vector<double> Backend::Impl::RevisitVariances(int k,
         trajectory_.keyframes(), seen.back(), k, revisit.distance);
     detections.push_back(revisit);
   }
-  std::vector<double> variances =
-      internal::RevisitVariances(map_.objects(), detections, options_);
-  *before_window = false;
-  for (size_t d = 0; d < variances.size(); ++d) {
-    *before_window =
-        *before_window || (variances[d] > 0.0 && seen[d] < window_begin);
+  const std::vector<internal::RevisitGate> gates =
+      internal::RevisitGates(map_.objects(), detections, options_);
+  std::vector<Revisit> revisits(gates.size());
+  for (size_t d = 0; d < gates.size(); ++d) {
+    revisits[d].gate = gates[d];
+    revisits[d].before_window = seen[d] < window_begin;
   }
-  return variances;
+  return revisits;
+}
+
+void Backend::Impl::ApplyRevisit(const Revisit& revisit,
+                                 internal::AssociationScope* scope) const {
+  if (revisit.gate.object < 0) return;
+  scope->place_variance = revisit.gate.variance;
+  scope->place_object = map_.objects()[revisit.gate.object].get();
+}
+
+void Backend::Impl::NoteRevisit(const Revisit& revisit, int object) {
+  // Matched through the grown gate (the object lay beyond one step's), to
+  // a place last seen before the window.
+  if (revisit.gate.object >= 0 && object == revisit.gate.object &&
+      revisit.before_window) {
+    revisit_pending_ = true;
+  }
 }
 
 void Backend::Impl::AddDetection(
@@ -119,15 +134,14 @@ void Backend::Impl::AddDetection(
     const CategorizedDetection* categorized,
     const std::optional<HypothesisScatter>& scatter,
     const std::string& detection_id,
-    double place_variance) {
+    const Revisit& revisit) {
   const Matrix6d sqrt_info =
       internal::InitialSqrtInfo(detection, scatter, options_);
   const int object =
       categorized != nullptr
-          ? AddSymba(
-                k, detection, *categorized, scatter, sqrt_info, place_variance)
+          ? AddSymba(k, detection, *categorized, scatter, sqrt_info, revisit)
           : AddSingleOrMultiHypothesis(
-                k, detection, scatter, sqrt_info, place_variance);
+                k, detection, scatter, sqrt_info, revisit);
   if (scatter) map_.NoteScatter(detection.class_name, *scatter);
   const SymmetryType type =
       categorized != nullptr ? categorized->type : SymmetryType::kAsymmetric;
@@ -196,7 +210,7 @@ int Backend::Impl::AddSingleOrMultiHypothesis(
     const DetectionInput& detection,
     const std::optional<HypothesisScatter>& scatter,
     const Matrix6d& sqrt_info,
-    double place_variance) {
+    const Revisit& revisit) {
   const std::vector<PoseHypothesis>& hyps = detection.hypotheses;
   internal::SixDofObservation six_dof =
       internal::MakeSixDofObservation(hyps, options_.method, sqrt_info);
@@ -214,7 +228,7 @@ int Backend::Impl::AddSingleOrMultiHypothesis(
                                GateSigmaT(detection.class_name, scatter),
                                options_,
                                ClaimFactorT(detection.class_name));
-  scope.place_variance = place_variance;
+  ApplyRevisit(revisit, &scope);
   int o = internal::FindSixDofMatch(
       map_.objects(), detection.class_name, T_wo_candidates, scope, options_);
   if (o < 0) {
@@ -222,6 +236,7 @@ int Backend::Impl::AddSingleOrMultiHypothesis(
     o = internal::FindSixDofMatch(
         map_.objects(), detection.class_name, T_wo_candidates, scope, options_);
   }
+  NoteRevisit(revisit, o);
   if (o < 0) {
     o = map_.Create(detection.class_name,
                     SymmetryType::kAsymmetric,
@@ -247,7 +262,7 @@ int Backend::Impl::AddSymba(int k,
                             const CategorizedDetection& cat,
                             const std::optional<HypothesisScatter>& scatter,
                             const Matrix6d& sqrt_info,
-                            double place_variance) {
+                            const Revisit& revisit) {
   const KeyframeState& kf = *trajectory_.keyframes()[k];
   const Rigid3d T_wc = kf.T_wc();
   // The map first, then the tentative objects.
@@ -258,7 +273,7 @@ int Backend::Impl::AddSymba(int k,
                                GateSigmaT(detection.class_name, scatter),
                                options_,
                                ClaimFactorT(detection.class_name));
-  scope.place_variance = place_variance;
+  ApplyRevisit(revisit, &scope);
   auto find = [&]() {
     return internal::FindSymbaMatch(map_.objects(),
                                     T_wc,
@@ -275,6 +290,7 @@ int Backend::Impl::AddSymba(int k,
     match = find();
   }
   int o = match.object;
+  NoteRevisit(revisit, o);
   if (o < 0) {
     o = map_.CreateSymba(detection.class_name, cat, T_wc, k);
   } else if (match.upgrade) {

@@ -117,6 +117,10 @@ void Trajectory::AddCameraFactors(int k, const KeyframeInput& input) {
     sqrt_info = IsotropicPoseSqrtInfo(options_.frontend_sigma_t,
                                       options_.frontend_sigma_r);
   }
+  if (k > 0) {  // a keyframe without a motion factor adds nothing
+    kf.summed_motion_variance_t = keyframes_[k - 1]->summed_motion_variance_t;
+    kf.summed_motion_variance_r = keyframes_[k - 1]->summed_motion_variance_r;
+  }
   if (other < 0) return;
   const double sigma_t = 1.0 / sqrt_info(0, 0);
   const double sigma_r = 1.0 / sqrt_info(3, 3);
@@ -129,10 +133,10 @@ void Trajectory::AddCameraFactors(int k, const KeyframeInput& input) {
   kf.motion_variance_r = sigma_r * sigma_r;
   kf.motion_from = other;
   KeyframeState& prev = *keyframes_[other];
-  kf.summed_motion_variance_t =
-      prev.summed_motion_variance_t + kf.motion_variance_t;
-  kf.summed_motion_variance_r =
-      prev.summed_motion_variance_r + kf.motion_variance_r;
+  // Keyframe after keyframe (a front-end pose's step from an earlier
+  // keyframe counts from the previous one: an over-estimate, never below).
+  kf.summed_motion_variance_t += kf.motion_variance_t;
+  kf.summed_motion_variance_r += kf.motion_variance_r;
   FactorRecord record;
   record.cost.reset(RelativePoseFactor::Create(T_other_cur, sqrt_info));
   record.blocks = {prev.q, prev.t, kf.q, kf.t};

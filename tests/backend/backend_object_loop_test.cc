@@ -276,11 +276,6 @@ TEST(BackendObjectLoop, ADuplicateAtAnotherModeFoldsOntoTheKnownOrder) {
             5.0 * testing::kDegree);
 }
 
-// A smaller drift (1 deg per keyframe): the table and the round table are
-// associated again, the chairs were mapped again. Too few duplicates for a
-// loop, and none lies on its earlier object within the detections' noise
-// (the window is not pulled back that far): nothing is closed or merged,
-// and the estimate is the one without loop detection.
 // The place revisited with less drift (0.85 deg per keyframe away): its
 // detections come back 0.25-0.5 m off, beyond the gate of one odometry step
 // but within the gate grown by the steps since the place was last seen,
@@ -303,6 +298,11 @@ TEST(BackendObjectLoop, APlaceRevisitedALittleOffIsAssociatedAgainAsAWhole) {
   }
 }
 
+// A smaller drift (1 deg per keyframe): the table and the round table are
+// associated again, the chairs were mapped again. Too few duplicates for a
+// loop, and none lies on its earlier object within the detections' noise
+// (the window is not pulled back that far): nothing is closed or merged,
+// and the estimate is the one without loop detection.
 TEST(BackendObjectLoop, TooFewDuplicatesCloseNoLoopAndMergeNothing) {
   const PlaceRun run = RevisitedPlace(1.0 * testing::kDegree);
   BackendOptions without;

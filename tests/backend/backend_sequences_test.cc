@@ -532,6 +532,10 @@ TEST(BackendSequences, APlaceRevisitedALittleOffIsAssociatedAgain) {
     EXPECT_EQ(backend->Statistics().loop_closures, 0) << seed;
     EXPECT_LT(camera, 0.3 * frontend) << seed;
     EXPECT_LT(hidden, 0.6 * hidden_frontend) << seed;
+    // Seeds 4 and 8 came back within one step's gate.
+    if (seed != 4 && seed != 8) {
+      EXPECT_EQ(backend->Statistics().revisits_moved_past, 1) << seed;
+    }
   }
 }
 

@@ -435,6 +435,7 @@ TEST(PositionGate, GrowsWithTheCamerasMotionSinceThePlaceWasSeen) {
   scope.sigma_t = 0.04;
   scope.prediction_variance = 0.001;
   scope.place_variance = 0.004;  // the larger one counts
+  scope.place_object = &object;
   EXPECT_NEAR(PositionGate(object, scope, options),
               3.0 * std::sqrt(0.0016 * 4.0 / 3.0 + 0.004),
               1e-12);
@@ -500,46 +501,87 @@ RevisitDetection Revisiting(const std::string& class_name,
   return detection;
 }
 
-TEST(RevisitVariances, AGrownGateNeedsAPlaceOfOneObjectOrAShiftTheOthersShare) {
+// The gates' variances and objects, for comparison.
+std::vector<std::pair<double, int>> Gates(
+    const ObjectList& objects,
+    const std::vector<RevisitDetection>& detections,
+    const BackendOptions& options) {
+  std::vector<std::pair<double, int>> out;
+  for (const RevisitGate& gate : RevisitGates(objects, detections, options)) {
+    out.emplace_back(gate.variance, gate.object);
+  }
+  return out;
+}
+
+using Gate = std::pair<double, int>;
+
+TEST(RevisitGates, AGrownGateNeedsAPlaceOfOneObjectOrAShiftTheOthersShare) {
   BackendOptions options;  // gate_position 0.5 m, gate_sigmas 5
   const Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
   ObjectList objects;
   objects.push_back(AsymmetricObject(
       0, "chair", Rigid3d(q, {0, 0, 0}), ObjectStatus::kConfirmed));
+  const Gate none(0.0, -1);
   // A place of one object, 0.3 m off: beyond one step's gate, within the
-  // grown one.
-  EXPECT_EQ(RevisitVariances(
-                objects, {Revisiting("chair", {0.3, 0, 0}, 0.01)}, options),
-            (std::vector<double>{0.01}));
-  // Within one step's gate: no growth needed; a growth smaller than one
-  // step's: none.
-  EXPECT_EQ(RevisitVariances(
-                objects, {Revisiting("chair", {0.1, 0, 0}, 0.01)}, options),
-            (std::vector<double>{0.0}));
-  EXPECT_EQ(RevisitVariances(
-                objects, {Revisiting("chair", {0.3, 0, 0}, 5e-5)}, options),
-            (std::vector<double>{0.0}));
+  // grown one, which applies to that object.
+  EXPECT_EQ(Gates(objects, {Revisiting("chair", {0.3, 0, 0}, 0.01)}, options),
+            (std::vector<Gate>{{0.01, 0}}));
+  // Within one step's gate: no revisit; a growth smaller than one step's:
+  // none.
+  EXPECT_EQ(Gates(objects, {Revisiting("chair", {0.1, 0, 0}, 0.01)}, options),
+            (std::vector<Gate>{none}));
+  EXPECT_EQ(Gates(objects, {Revisiting("chair", {0.3, 0, 0}, 5e-5)}, options),
+            (std::vector<Gate>{none}));
   // A table 1 m away (within the detections' 2 m): the chair needs the
   // table's detection moved by the same shift, and gives the table its.
   objects.push_back(AsymmetricObject(
       1, "table", Rigid3d(q, {1, 0, 0}), ObjectStatus::kConfirmed));
-  EXPECT_EQ(RevisitVariances(objects,
-                             {Revisiting("chair", {0.3, 0, 0}, 0.01),
-                              Revisiting("table", {1.3, 0.05, 0}, 0.01)},
-                             options),
-            (std::vector<double>{0.01, 0.01}));
+  EXPECT_EQ(Gates(objects,
+                  {Revisiting("chair", {0.3, 0, 0}, 0.01),
+                   Revisiting("table", {1.3, 0.05, 0}, 0.01)},
+                  options),
+            (std::vector<Gate>{{0.01, 0}, {0.01, 1}}));
   // The table's detection does not move with the chair's (0.67 m from the
   // table once moved): the chair's detection may have been carried near
   // this chair from elsewhere, and keeps one step's gate.
-  EXPECT_EQ(RevisitVariances(objects,
-                             {Revisiting("chair", {0.3, 0, 0}, 0.01),
-                              Revisiting("table", {1.0, 0.6, 0}, 0.01)},
-                             options),
-            (std::vector<double>{0.0, 0.0}));
+  EXPECT_EQ(Gates(objects,
+                  {Revisiting("chair", {0.3, 0, 0}, 0.01),
+                   Revisiting("table", {1.0, 0.6, 0}, 0.01)},
+                  options),
+            (std::vector<Gate>{none, none}));
   // Alone in the keyframe, with the table in the place: nothing shares it.
-  EXPECT_EQ(RevisitVariances(
-                objects, {Revisiting("chair", {0.3, 0, 0}, 0.01)}, options),
-            (std::vector<double>{0.0}));
+  EXPECT_EQ(Gates(objects, {Revisiting("chair", {0.3, 0, 0}, 0.01)}, options),
+            (std::vector<Gate>{none}));
+  // A second chair within one step's gate of the detection: no revisit,
+  // whatever the grown gate would reach.
+  objects.push_back(AsymmetricObject(
+      2, "chair", Rigid3d(q, {0.4, 0.1, 0}), ObjectStatus::kTentative));
+  EXPECT_EQ(Gates(objects,
+                  {Revisiting("chair", {0.3, 0, 0}, 0.01),
+                   Revisiting("table", {1.3, 0.05, 0}, 0.01)},
+                  options)[0],
+            none);
+}
+
+TEST(PositionGate, TheGrownGateIsThePlaceObjectsOnly) {
+  BackendOptions options;
+  options.gate_position = 0.5;
+  options.gate_sigmas = 3.0;
+  ObjectState object;
+  ObjectState other;
+  object.observations.resize(3);
+  other.observations.resize(3);
+  AssociationScope scope;
+  scope.sigma_t = 0.04;
+  scope.prediction_variance = 0.001;
+  scope.place_variance = 0.004;
+  scope.place_object = &object;
+  EXPECT_NEAR(PositionGate(object, scope, options),
+              3.0 * std::sqrt(0.0016 * 4.0 / 3.0 + 0.004),
+              1e-12);
+  EXPECT_NEAR(PositionGate(other, scope, options),
+              3.0 * std::sqrt(0.0016 * 4.0 / 3.0 + 0.001),
+              1e-12);
 }
 
 TEST(FindSixDofMatch, GatesPositionRotationClassAndStatus) {

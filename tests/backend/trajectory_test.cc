@@ -134,9 +134,9 @@ TEST_F(TrajectoryTest, ReportsTheNoiseOfEachMotionFactorsSource) {
   EXPECT_EQ(report.frontend_steps, 1);
   EXPECT_DOUBLE_EQ(*report.frontend_sigma_t, 0.04);
   EXPECT_DOUBLE_EQ(*report.frontend_sigma_r, 0.03);
-  // The variances summed along the motion factors from the first keyframe:
-  // the odometry's steps one after the other, the front end's pose from
-  // the last keyframe it posed (the first).
+  // The motion variances summed keyframe after keyframe: the front end's
+  // pose, a step from the last keyframe it posed (the first), counts from
+  // the previous keyframe.
   const KeyframeList& keyframes = trajectory().keyframes();
   EXPECT_DOUBLE_EQ(keyframes[0]->summed_motion_variance_t, 0.0);
   EXPECT_NEAR(keyframes[3]->summed_motion_variance_t,
@@ -145,8 +145,12 @@ TEST_F(TrajectoryTest, ReportsTheNoiseOfEachMotionFactorsSource) {
   EXPECT_NEAR(keyframes[3]->summed_motion_variance_r,
               0.02 * 0.02 + 0.06 * 0.06 + 0.04 * 0.04,
               1e-15);
-  EXPECT_NEAR(keyframes[4]->summed_motion_variance_t, 0.04 * 0.04, 1e-15);
-  EXPECT_NEAR(keyframes[4]->summed_motion_variance_r, 0.03 * 0.03, 1e-15);
+  EXPECT_NEAR(keyframes[4]->summed_motion_variance_t,
+              keyframes[3]->summed_motion_variance_t + 0.04 * 0.04,
+              1e-15);
+  EXPECT_NEAR(keyframes[4]->summed_motion_variance_r,
+              keyframes[3]->summed_motion_variance_r + 0.03 * 0.03,
+              1e-15);
 }
 
 TEST_F(TrajectoryTest, PointsAreCreatedFromADepth) {

@@ -373,7 +373,7 @@ TEST(ReplaySummaryJson, LoopClosuresCountTheWaitingOnesApart) {
 
 // The counts: a revisit that moved the past without a loop closure is
 // counted after the merged duplicates.
-TEST(ReplayLoopClosures, ARevisitThatMovedThePastIsCounted) {
+TEST(ReplaySummaryJson, ARevisitThatMovedThePastIsCounted) {
   ReplayResult result;
   result.statistics.objects_merged = 3;
   result.statistics.revisits_moved_past = 2;

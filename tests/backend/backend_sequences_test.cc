@@ -407,6 +407,24 @@ TEST(BackendSequences, ADetectorThatClaimsTooLittleNoiseDoesNotTakeTheCamera) {
   EXPECT_NEAR(claims.factor_t, *claims.scale_t, 0.25 * *claims.scale_t);
 }
 
+// The keyframe position RMSE of `poses` against the truth over keyframes
+// [begin, end).
+double RangeRmse(const ScriptedSequence& seq,
+                 const std::vector<Rigid3d>& poses,
+                 size_t begin,
+                 size_t end) {
+  return Positions(
+             std::vector<Rigid3d>(seq.T_wc_true.begin() + begin,
+                                  seq.T_wc_true.begin() + end),
+             std::vector<Rigid3d>(poses.begin() + begin, poses.begin() + end))
+      .rmse;
+}
+
+// No detection on keyframes [begin, end): the objects out of view.
+void HideDetections(size_t begin, size_t end, ScriptedSequence* seq) {
+  for (size_t k = begin; k < end; ++k) seq->keyframes[k].detections.clear();
+}
+
 // ---------------------------------------------------------------------------
 // A static object seen again pulls a drifting front end back. Test 1's
 // orbit with a milder yaw bias (0.3 deg per featureless keyframe), and the
@@ -423,25 +441,14 @@ TEST(BackendSequences, ADriftingFrontEndIsPulledBackByAnObjectSeenAgain) {
   for (const bool declared : {true, false}) {
     if (!declared) spec.detection_sigma_r.reset();
     ScriptedSequence seq = GenerateScriptedSequence(spec);
-    for (size_t k = kHiddenFrom; k < kSeenAgain; ++k) {
-      seq.keyframes[k].detections.clear();
-    }
+    HideDetections(kHiddenFrom, kSeenAgain, &seq);
     std::unique_ptr<Backend> backend;
     ASSERT_NO_FATAL_FAILURE(RunSequence(seq, BackendOptions(), &backend));
     const std::vector<Rigid3d> estimated = EstimatedPoses(*backend);
     const std::vector<Rigid3d> frontend_poses = FrontendPoses(seq);
-    const std::vector<Rigid3d> truth(seq.T_wc_true.begin() + kSeenAgain,
-                                     seq.T_wc_true.end());
-    const double frontend =
-        Positions(truth,
-                  std::vector<Rigid3d>(frontend_poses.begin() + kSeenAgain,
-                                       frontend_poses.end()))
-            .rmse;
-    const double camera =
-        Positions(truth,
-                  std::vector<Rigid3d>(estimated.begin() + kSeenAgain,
-                                       estimated.end()))
-            .rmse;
+    const size_t end = seq.keyframes.size();
+    const double frontend = RangeRmse(seq, frontend_poses, kSeenAgain, end);
+    const double camera = RangeRmse(seq, estimated, kSeenAgain, end);
     std::printf(
         "[ seen again ] %s: camera %.3f m, front end %.3f m over keyframes "
         "%zu-%zu\n",
@@ -482,38 +489,21 @@ TEST(BackendSequences, APlaceRevisitedALittleOffIsAssociatedAgain) {
   for (const int seed : {1, 2, 3, 4, 6, 7, 8}) {
     spec.seed = seed;
     ScriptedSequence seq = GenerateScriptedSequence(spec);
-    for (size_t k = kHiddenFrom; k < kSeenAgain; ++k) {
-      seq.keyframes[k].detections.clear();
-    }
+    HideDetections(kHiddenFrom, kSeenAgain, &seq);
     std::unique_ptr<Backend> backend;
     ASSERT_NO_FATAL_FAILURE(RunSequence(seq, BackendOptions(), &backend));
     const std::vector<Rigid3d> estimated = EstimatedPoses(*backend);
     const std::vector<Rigid3d> frontend_poses = FrontendPoses(seq);
-    const std::vector<Rigid3d> truth(seq.T_wc_true.begin() + kSeenAgain,
-                                     seq.T_wc_true.end());
-    const double frontend =
-        Positions(truth,
-                  std::vector<Rigid3d>(frontend_poses.begin() + kSeenAgain,
-                                       frontend_poses.end()))
-            .rmse;
-    const double camera =
-        Positions(truth,
-                  std::vector<Rigid3d>(estimated.begin() + kSeenAgain,
-                                       estimated.end()))
-            .rmse;
+    const size_t end = seq.keyframes.size();
+    const double frontend = RangeRmse(seq, frontend_poses, kSeenAgain, end);
+    const double camera = RangeRmse(seq, estimated, kSeenAgain, end);
     const double off =
         (frontend_poses[kSeenAgain].t - seq.T_wc_true[kSeenAgain].t).norm();
     // The stretch the table was hidden for: its keyframes that left the
     // window before the revisit move with the keyframe graph.
-    auto stretch = [&](const std::vector<Rigid3d>& poses) {
-      return Positions(std::vector<Rigid3d>(seq.T_wc_true.begin() + kHiddenFrom,
-                                            seq.T_wc_true.begin() + kSeenAgain),
-                       std::vector<Rigid3d>(poses.begin() + kHiddenFrom,
-                                            poses.begin() + kSeenAgain))
-          .rmse;
-    };
-    const double hidden = stretch(estimated);
-    const double hidden_frontend = stretch(frontend_poses);
+    const double hidden = RangeRmse(seq, estimated, kHiddenFrom, kSeenAgain);
+    const double hidden_frontend =
+        RangeRmse(seq, frontend_poses, kHiddenFrom, kSeenAgain);
     std::printf(
         "[ revisited ] seed %d: front end %.3f m off at the revisit; camera "
         "%.3f m, front end %.3f m over keyframes %zu-%zu; %.3f m and %.3f m "

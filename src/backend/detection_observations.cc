@@ -123,6 +123,14 @@ int HighestWeight(const std::vector<PoseHypothesis>& hyps,
   return best;
 }
 
+int HighestWeight(const std::vector<PoseHypothesis>& hyps) {
+  int best = 0;
+  for (size_t j = 1; j < hyps.size(); ++j) {
+    if (hyps[j].weight > hyps[best].weight) best = static_cast<int>(j);
+  }
+  return best;
+}
+
 std::vector<int> AllIndices(size_t n) {
   std::vector<int> indices(n);
   for (size_t j = 0; j < n; ++j) indices[j] = static_cast<int>(j);

@@ -55,6 +55,8 @@ void SetObservationNoise(const DetectionInput& detection,
 // first).
 int HighestWeight(const std::vector<PoseHypothesis>& hyps,
                   const std::vector<int>& indices);
+// The index of the highest-weight hypothesis of all (ties: the first).
+int HighestWeight(const std::vector<PoseHypothesis>& hyps);
 // 0, 1, ..., n - 1.
 std::vector<int> AllIndices(size_t n);
 

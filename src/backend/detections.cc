@@ -82,9 +82,7 @@ std::vector<Backend::Impl::Revisit> Backend::Impl::Revisits(
     const Eigen::Vector3d t_co =
         options_.method == Method::kSymba
             ? categorized_[d].t_co
-            : hyps[internal::HighestWeight(hyps,
-                                           internal::AllIndices(hyps.size()))]
-                  .T_co.t;
+            : hyps[internal::HighestWeight(hyps)].T_co.t;
     internal::RevisitDetection revisit;
     revisit.class_name = &detection.class_name;
     revisit.t_w = T_wc * t_co;
@@ -172,17 +170,16 @@ void Backend::Impl::SampleClaim(int k,
   // hypotheses of a symmetric object turns about its axis from keyframe to
   // keyframe, which mh's mixture covers and is no noise).
   const std::vector<PoseHypothesis>& hyps = detection.hypotheses;
-  const Rigid3d& best =
-      hyps[internal::HighestWeight(hyps, internal::AllIndices(hyps.size()))]
-          .T_co;
-  const Eigen::Vector3d t_co =
-      categorized != nullptr ? categorized->t_co : best.t;
+  Eigen::Vector3d t_co;
   std::optional<Eigen::Quaterniond> R_co;
   if (categorized != nullptr) {
+    t_co = categorized->t_co;
     if (categorized->type == SymmetryType::kAsymmetric) {
       R_co = categorized->T_co_base.q;
     }
   } else {
+    const Rigid3d& best = hyps[internal::HighestWeight(hyps)].T_co;
+    t_co = best.t;
     const ClassPrior* prior = map_.PriorOf(detection.class_name);
     if (hyps.size() == 1 &&
         (prior == nullptr || prior->symmetry == SymmetryType::kAsymmetric)) {

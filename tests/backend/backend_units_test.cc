@@ -401,6 +401,18 @@ std::unique_ptr<ObjectState> AsymmetricObject(int id,
   return object;
 }
 
+TEST(HighestWeight, TheFirstOfTheHeaviestOfAllOrOfSome) {
+  std::vector<PoseHypothesis> hyps(4);
+  for (size_t j = 0; j < hyps.size(); ++j) hyps[j].weight = 1.0;
+  hyps[1].weight = 3.0;
+  hyps[3].weight = 3.0;
+  EXPECT_EQ(HighestWeight(hyps), 1);
+  EXPECT_EQ(HighestWeight(hyps, {0, 2, 3}), 3);
+  EXPECT_EQ(HighestWeight(hyps, AllIndices(hyps.size())), 1);
+  hyps.resize(1);
+  EXPECT_EQ(HighestWeight(hyps), 0);
+}
+
 TEST(PositionGate, CombinesDetectionObjectAndPrediction) {
   BackendOptions options;
   options.gate_position = 0.5;

@@ -37,10 +37,10 @@ int PlaceLastSeen(const ObjectList& objects,
   int seen = -1;
   for (const auto& object : objects) {
     if (object->status == ObjectStatus::kDropped) continue;
-    const int before = object->LastSeenBefore(k);
-    if (before > seen &&
+    const int last = object->last_keyframe;
+    if (last < k && last > seen &&
         (object->position() - t_w).norm() <= options.gate_position) {
-      seen = before;
+      seen = last;
     }
   }
   return seen;

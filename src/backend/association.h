@@ -84,7 +84,9 @@ AssociationScope DetectionScope(const DetectionInput& detection,
 
 // The latest keyframe before keyframe k in which an object (any class,
 // any status but dropped) within gate_position of t_w was detected: when
-// the place the detection lies in was last seen (-1: never).
+// the place the detection lies in was last seen (-1: never). Called before
+// keyframe k's detections are added (an object detected in keyframe k
+// already counts as not seen before it).
 int PlaceLastSeen(const ObjectList& objects,
                   int k,
                   const Eigen::Vector3d& t_w,

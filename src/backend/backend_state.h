@@ -123,11 +123,10 @@ struct UpgradeRecord {
 struct ObjectState {
   int id = 0;
   ObjectStatus status = ObjectStatus::kConfirmed;
-  int created_keyframe = -1;   // keyframe index
-  int last_keyframe = -1;      // keyframe index of its last detection
-  int previous_keyframe = -1;  // ... of its last one before last_keyframe
-  int keyframes_seen = 0;      // distinct keyframes with a detection of it
-  int keyframes_in_view = 0;   // keyframes since confirmation it was in view
+  int created_keyframe = -1;  // keyframe index
+  int last_keyframe = -1;     // keyframe index of its last detection
+  int keyframes_seen = 0;     // distinct keyframes with a detection of it
+  int keyframes_in_view = 0;  // keyframes since confirmation it was in view
   int keyframes_seen_in_view = 0;  // ... and was detected in
   std::vector<int> assignments;    // indices into the backend's assignments
   std::vector<FlipEvidence> flips;
@@ -174,10 +173,6 @@ struct ObjectState {
 
   Eigen::Vector3d position() const {
     return Eigen::Map<const Eigen::Vector3d>(t);
-  }
-  // The keyframe (index) of its last detection before keyframe k (-1: none).
-  int LastSeenBefore(int k) const {
-    return last_keyframe < k ? last_keyframe : previous_keyframe;
   }
   Eigen::Vector3d axis_w() const {
     return Eigen::Map<const Eigen::Vector3d>(a_w);

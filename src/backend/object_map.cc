@@ -89,7 +89,6 @@ void ObjectMap::NoteDetection(int o,
   ++object.detections;
   object.assignments.push_back(assignment);
   if (object.last_keyframe != k) {
-    object.previous_keyframe = object.last_keyframe;
     object.last_keyframe = k;
     ++object.keyframes_seen;
     if (object.type == SymmetryType::kAsymmetric) {
@@ -176,16 +175,8 @@ std::vector<ObjectObservation> ObjectMap::MergeInto(int from, int into) {
   object.keyframes_seen += duplicate.keyframes_seen;
   object.keyframes_in_view += duplicate.keyframes_in_view;
   object.keyframes_seen_in_view += duplicate.keyframes_seen_in_view;
-  const int last = std::max(object.last_keyframe, duplicate.last_keyframe);
-  int previous = -1;
-  for (int seen : {object.last_keyframe,
-                   object.previous_keyframe,
-                   duplicate.last_keyframe,
-                   duplicate.previous_keyframe}) {
-    if (seen < last) previous = std::max(previous, seen);
-  }
-  object.last_keyframe = last;
-  object.previous_keyframe = previous;
+  object.last_keyframe =
+      std::max(object.last_keyframe, duplicate.last_keyframe);
   object.flips.insert(
       object.flips.end(), duplicate.flips.begin(), duplicate.flips.end());
   object.flips_left_behind += duplicate.flips_left_behind;

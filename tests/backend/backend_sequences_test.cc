@@ -420,9 +420,28 @@ double RangeRmse(const ScriptedSequence& seq,
       .rmse;
 }
 
-// No detection on keyframes [begin, end): the objects out of view.
-void HideDetections(size_t begin, size_t end, ScriptedSequence* seq) {
-  for (size_t k = begin; k < end; ++k) seq->keyframes[k].detections.clear();
+// A sequence whose objects are out of view on keyframes [hidden_from,
+// seen_again), replayed with default options: the backend, the estimated
+// and the front end's poses.
+struct HiddenRun {
+  ScriptedSequence seq;
+  std::unique_ptr<Backend> backend;
+  std::vector<Rigid3d> estimated;
+  std::vector<Rigid3d> frontend_poses;
+};
+
+void RunWithObjectsHidden(const ScriptedSequenceSpec& spec,
+                          size_t hidden_from,
+                          size_t seen_again,
+                          HiddenRun* run) {
+  run->seq = GenerateScriptedSequence(spec);
+  for (size_t k = hidden_from; k < seen_again; ++k) {
+    run->seq.keyframes[k].detections.clear();
+  }
+  ASSERT_NO_FATAL_FAILURE(
+      RunSequence(run->seq, BackendOptions(), &run->backend));
+  run->estimated = EstimatedPoses(*run->backend);
+  run->frontend_poses = FrontendPoses(run->seq);
 }
 
 // ---------------------------------------------------------------------------
@@ -440,12 +459,13 @@ TEST(BackendSequences, ADriftingFrontEndIsPulledBackByAnObjectSeenAgain) {
   constexpr size_t kSeenAgain = 35;
   for (const bool declared : {true, false}) {
     if (!declared) spec.detection_sigma_r.reset();
-    ScriptedSequence seq = GenerateScriptedSequence(spec);
-    HideDetections(kHiddenFrom, kSeenAgain, &seq);
-    std::unique_ptr<Backend> backend;
-    ASSERT_NO_FATAL_FAILURE(RunSequence(seq, BackendOptions(), &backend));
-    const std::vector<Rigid3d> estimated = EstimatedPoses(*backend);
-    const std::vector<Rigid3d> frontend_poses = FrontendPoses(seq);
+    HiddenRun run;
+    ASSERT_NO_FATAL_FAILURE(
+        RunWithObjectsHidden(spec, kHiddenFrom, kSeenAgain, &run));
+    const ScriptedSequence& seq = run.seq;
+    const Backend* backend = run.backend.get();
+    const std::vector<Rigid3d>& estimated = run.estimated;
+    const std::vector<Rigid3d>& frontend_poses = run.frontend_poses;
     const size_t end = seq.keyframes.size();
     const double frontend = RangeRmse(seq, frontend_poses, kSeenAgain, end);
     const double camera = RangeRmse(seq, estimated, kSeenAgain, end);
@@ -488,12 +508,13 @@ TEST(BackendSequences, APlaceRevisitedALittleOffIsAssociatedAgain) {
   constexpr size_t kSeenAgain = 35;
   for (const int seed : {1, 2, 3, 4, 6, 7, 8}) {
     spec.seed = seed;
-    ScriptedSequence seq = GenerateScriptedSequence(spec);
-    HideDetections(kHiddenFrom, kSeenAgain, &seq);
-    std::unique_ptr<Backend> backend;
-    ASSERT_NO_FATAL_FAILURE(RunSequence(seq, BackendOptions(), &backend));
-    const std::vector<Rigid3d> estimated = EstimatedPoses(*backend);
-    const std::vector<Rigid3d> frontend_poses = FrontendPoses(seq);
+    HiddenRun run;
+    ASSERT_NO_FATAL_FAILURE(
+        RunWithObjectsHidden(spec, kHiddenFrom, kSeenAgain, &run));
+    const ScriptedSequence& seq = run.seq;
+    const Backend* backend = run.backend.get();
+    const std::vector<Rigid3d>& estimated = run.estimated;
+    const std::vector<Rigid3d>& frontend_poses = run.frontend_poses;
     const size_t end = seq.keyframes.size();
     const double frontend = RangeRmse(seq, frontend_poses, kSeenAgain, end);
     const double camera = RangeRmse(seq, estimated, kSeenAgain, end);

@@ -472,10 +472,10 @@ TEST(PlaceLastSeen, IsTheLatestKeyframeBeforeThisOneThatSawAnObjectNearby) {
   objects[2]->last_keyframe = 8;  // too far from the detection
   const Eigen::Vector3d t_w(0.1, 0.0, 0.0);
   EXPECT_EQ(PlaceLastSeen(objects, 9, t_w, options), 4);
-  // Seen in this keyframe already: the detection before it counts.
-  objects[1]->previous_keyframe = 4;
+  // Detected in keyframe 9 already: not seen before it.
   objects[1]->last_keyframe = 9;
-  EXPECT_EQ(PlaceLastSeen(objects, 9, t_w, options), 4);
+  EXPECT_EQ(PlaceLastSeen(objects, 9, t_w, options), 2);
+  objects[1]->last_keyframe = 4;
   // A dropped object is no place; nothing seen near the detection: -1.
   objects[1]->status = ObjectStatus::kDropped;
   EXPECT_EQ(PlaceLastSeen(objects, 9, t_w, options), 2);

@@ -161,9 +161,6 @@ TEST_F(ObjectMapTest, ADuplicateMergedIntoItsObjectHandsOverItsDetections) {
   EXPECT_EQ(merged.detections, 5);
   EXPECT_EQ(merged.keyframes_seen, 5);
   EXPECT_EQ(merged.last_keyframe, 8);
-  EXPECT_EQ(merged.previous_keyframe, 7);  // the duplicate's detections
-  EXPECT_EQ(merged.LastSeenBefore(8), 7);
-  EXPECT_EQ(merged.LastSeenBefore(9), 8);
   EXPECT_EQ(merged.assignments, (std::vector<int>{0, 1, 2, 3, 4}));
   for (const DetectionAssignment& a : assignments_) {
     EXPECT_EQ(a.object, object) << a.detection;

@@ -76,6 +76,12 @@ class ObjectEdges {
   // moved by more than noise_update_ratio from the applied one; true if so:
   // the class's edges must then be rebuilt.
   bool ApplyNoise(const std::string& class_name, const ClassNoise& estimate);
+  // Sets the class's applied noise as it is (a loaded map's: the claim
+  // scales are the factors, not estimates to test against the tolerance).
+  // Before the class's first edge, so nothing is rebuilt.
+  void RestoreNoise(const std::string& class_name, const ClassNoise& applied) {
+    applied_noise_[class_name] = applied;
+  }
   // The noise applied to the class's edges (empty sigmas: none yet).
   ClassNoise AppliedNoise(const std::string& class_name) const;
   // Every class's applied noise, by name.

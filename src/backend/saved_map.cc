@@ -101,10 +101,19 @@ Status ValidateSavedMap(const SavedMap& map) {
       return Status::Error("map noise: class \"" + n.class_name +
                            "\" given twice");
     }
-    for (const std::optional<double>& sigma : {n.sigma_t, n.sigma_r}) {
+    for (const std::optional<double>& sigma :
+         {n.sigma_t, n.sigma_r, n.white_sigma_t, n.white_sigma_r}) {
       if (sigma && !(std::isfinite(*sigma) && *sigma > 0.0)) {
         return Status::Error("map noise of class \"" + n.class_name +
                              "\": a sigma must be positive and finite");
+      }
+    }
+    for (const std::optional<double>& factor :
+         {n.claim_factor_t, n.claim_factor_r}) {
+      if (factor && !(std::isfinite(*factor) && *factor >= 1.0)) {
+        return Status::Error("map noise of class \"" + n.class_name +
+                             "\": a claim factor must be finite and at "
+                             "least 1");
       }
     }
   }
@@ -130,7 +139,13 @@ Status Backend::Impl::SaveMap(SavedMap* map) {
     }
   }
   for (const auto& [name, noise] : edges_.applied_noise()) {
-    saved.noise.push_back({name, noise.sigma_t, noise.sigma_r});
+    saved.noise.push_back({name,
+                           noise.sigma_t,
+                           noise.sigma_r,
+                           noise.white_sigma_t,
+                           noise.white_sigma_r,
+                           noise.claim_scale_t,
+                           noise.claim_scale_r});
   }
   *map = std::move(saved);
   return Status::Ok();
@@ -150,12 +165,16 @@ Status Backend::Impl::LoadMap(const SavedMap& map) {
   });
   for (const MapObjectEstimate* o : by_id) map_.Load(*o);
   for (const SavedClassNoise& n : map.noise) {
-    // The white parts and the claim factors are learned again (the map
-    // format has none).
+    // As the saving run last applied it; the run's own estimates take over
+    // as they move away from it (ObjectEdges::ApplyNoise).
     internal::ClassNoise noise;
     noise.sigma_t = n.sigma_t;
     noise.sigma_r = n.sigma_r;
-    edges_.ApplyNoise(n.class_name, noise);
+    noise.white_sigma_t = n.white_sigma_t;
+    noise.white_sigma_r = n.white_sigma_r;
+    noise.claim_scale_t = n.claim_factor_t;
+    noise.claim_scale_r = n.claim_factor_r;
+    edges_.RestoreNoise(n.class_name, noise);
   }
   map_loaded_ = true;
   return Status::Ok();

@@ -86,6 +86,23 @@ Status OptionalPositive(const JsonTreeReader& r,
   return status;
 }
 
+// A claim factor multiplies a declared sigma and never lowers it.
+Status OptionalClaimFactor(const JsonTreeReader& r,
+                           JsonTree::Index object,
+                           const JsonPath& where,
+                           const char* key,
+                           std::optional<double>* value) {
+  const JsonTree::Index member = r.Find(object, key);
+  if (member == 0) return Status::Ok();
+  double v = 0.0;
+  Status status = r.Number(member, where.Member(key), &v);
+  if (status.ok() && !(v >= 1.0)) {
+    status = r.Fail(where.Member(key), "must be at least 1");
+  }
+  if (status.ok()) *value = v;
+  return status;
+}
+
 Status Noise(const JsonTreeReader& r,
              const JsonPath& root,
              std::vector<SavedClassNoise>* noise) {
@@ -113,6 +130,22 @@ Status Noise(const JsonTreeReader& r,
       status = OptionalPositive(r, e, where, "sigma_t", &entry.sigma_t);
     if (status.ok())
       status = OptionalPositive(r, e, where, "sigma_r", &entry.sigma_r);
+    if (status.ok()) {
+      status =
+          OptionalPositive(r, e, where, "white_sigma_t", &entry.white_sigma_t);
+    }
+    if (status.ok()) {
+      status =
+          OptionalPositive(r, e, where, "white_sigma_r", &entry.white_sigma_r);
+    }
+    if (status.ok()) {
+      status = OptionalClaimFactor(
+          r, e, where, "claim_factor_t", &entry.claim_factor_t);
+    }
+    if (status.ok()) {
+      status = OptionalClaimFactor(
+          r, e, where, "claim_factor_r", &entry.claim_factor_r);
+    }
     if (!status.ok()) return status;
     previous = entry.class_name;
     noise->push_back(std::move(entry));
@@ -137,6 +170,10 @@ std::string FormatMapFile(const SavedMap& map) {
     json.BeginObject().Member("class", n.class_name);
     if (n.sigma_t) json.Member("sigma_t", *n.sigma_t);
     if (n.sigma_r) json.Member("sigma_r", *n.sigma_r);
+    if (n.white_sigma_t) json.Member("white_sigma_t", *n.white_sigma_t);
+    if (n.white_sigma_r) json.Member("white_sigma_r", *n.white_sigma_r);
+    if (n.claim_factor_t) json.Member("claim_factor_t", *n.claim_factor_t);
+    if (n.claim_factor_r) json.Member("claim_factor_r", *n.claim_factor_r);
     json.EndObject();
   }
   json.EndArray().EndObject();

@@ -349,7 +349,7 @@ MapObjectEstimate SavedTable(ObjectId id) {
 TEST(BackendSavedMap, LoadedObjectsKeepIdsPosesAndCovariances) {
   SavedMap map;
   map.objects = {SavedTable(5), SavedChair(2)};
-  map.noise = {{"chair", 0.04, 0.2}};
+  map.noise = {{"chair", 0.04, 0.2}, {"table", {}, 0.3, 0.02, 0.05, 4.5, 1.0}};
   std::unique_ptr<Backend> backend;
   ASSERT_TRUE(
       Backend::Create(BackendOptions(), std::nullopt, {}, &backend).ok());
@@ -399,10 +399,21 @@ TEST(BackendSavedMap, LoadedObjectsKeepIdsPosesAndCovariances) {
 
   SavedMap saved;
   ASSERT_TRUE(backend->SaveMap(&saved).ok());
-  ASSERT_EQ(saved.noise.size(), 1u);
+  ASSERT_EQ(saved.noise.size(), 2u);
   EXPECT_EQ(saved.noise[0].class_name, "chair");
   EXPECT_EQ(saved.noise[0].sigma_t, 0.04);
   EXPECT_EQ(saved.noise[0].sigma_r, 0.2);
+  EXPECT_FALSE(saved.noise[0].white_sigma_t || saved.noise[0].claim_factor_t);
+  // Every part of the table's as loaded: the frame-to-frame part and the
+  // claim factors too.
+  const SavedClassNoise& table_noise = saved.noise[1];
+  EXPECT_EQ(table_noise.class_name, "table");
+  EXPECT_FALSE(table_noise.sigma_t.has_value());
+  EXPECT_EQ(table_noise.sigma_r, 0.3);
+  EXPECT_EQ(table_noise.white_sigma_t, 0.02);
+  EXPECT_EQ(table_noise.white_sigma_r, 0.05);
+  EXPECT_EQ(table_noise.claim_factor_t, 4.5);
+  EXPECT_EQ(table_noise.claim_factor_r, 1.0);
 }
 
 // A chair loaded with a tight covariance, then seen 10 cm away from there
@@ -463,8 +474,16 @@ TEST(BackendSavedMap, BadMapsAndLateLoadsChangeNothing) {
   ASSERT_FALSE(status.ok());
   EXPECT_NE(status.message().find("unit quaternion"), std::string::npos);
   SavedMap bad_noise;
-  bad_noise.noise = {{"chair", -1.0, std::nullopt}};
+  bad_noise.noise = {{"chair", -1.0}};
   EXPECT_FALSE(backend->LoadMap(bad_noise).ok());
+  bad_noise.noise = {{"chair", 0.1, 0.1, 0.01, 0.0}};
+  EXPECT_FALSE(backend->LoadMap(bad_noise).ok());
+  bad_noise.noise = {{"chair", 0.1, 0.1, 0.01, 0.01, 0.9}};
+  status = backend->LoadMap(bad_noise);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("claim factor must be finite and at least 1"),
+            std::string::npos)
+      << status.message();
   SavedMap angles;
   angles.objects = {SavedChair(0)};
   angles.objects[0].angles = {0.5};

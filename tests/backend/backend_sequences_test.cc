@@ -341,7 +341,10 @@ double LargestObjectShare(const Backend& backend) {
          static_cast<double>(backend.Assignments().size());
 }
 
-TEST(BackendSequences, ADetectorThatClaimsTooLittleNoiseDoesNotTakeTheCamera) {
+// One asymmetric box seen from an accurate front end (odometry only, its
+// noise stated truthfully) by a single-pose detector that claims 1 cm and
+// 0.01 rad but is off by 6 cm and 0.06 rad per axis (white).
+ScriptedSequence OverclaimingBoxSequence() {
   ScriptedObject box = Table(SymmetryType::kAsymmetric, 1);
   box.class_name = "box";
   ScriptedSequenceSpec spec = OrbitSpec(box);
@@ -359,7 +362,11 @@ TEST(BackendSequences, ADetectorThatClaimsTooLittleNoiseDoesNotTakeTheCamera) {
   spec.rotation_sigma = 0.06;
   spec.detection_sigma_t = 0.01;
   spec.detection_sigma_r = 0.01;
-  const ScriptedSequence seq = GenerateScriptedSequence(spec);
+  return GenerateScriptedSequence(spec);
+}
+
+TEST(BackendSequences, ADetectorThatClaimsTooLittleNoiseDoesNotTakeTheCamera) {
+  const ScriptedSequence seq = OverclaimingBoxSequence();
   // The front end: the first pose chained with the odometry.
   std::vector<Rigid3d> frontend_poses = {*seq.keyframes.front().T_wc};
   for (size_t k = 1; k < seq.keyframes.size(); ++k) {
@@ -405,6 +412,80 @@ TEST(BackendSequences, ADetectorThatClaimsTooLittleNoiseDoesNotTakeTheCamera) {
   EXPECT_NEAR(*claims.scale_r, 6.0, 0.15 * 6.0);
   // The edges were built with it (within noise_update_ratio).
   EXPECT_NEAR(claims.factor_t, *claims.scale_t, 0.25 * *claims.scale_t);
+}
+
+// The share of the detections of keyframes [first, first + count) of a run
+// from `map` (keyframe `first` placed by the saving run's last estimate and
+// the odometry, the rest by odometry) that went to a loaded object.
+double ShareOnLoadedObjects(const ScriptedSequence& seq,
+                            const SavedMap& map,
+                            const Rigid3d& last_of_first,
+                            size_t first,
+                            size_t count) {
+  std::unique_ptr<Backend> backend;
+  EXPECT_TRUE(
+      Backend::Create(BackendOptions(), seq.intrinsics, {}, &backend).ok());
+  EXPECT_TRUE(backend->LoadMap(map).ok());
+  std::set<ObjectId> loaded;
+  for (const MapObjectEstimate& o : map.objects) loaded.insert(o.id);
+  int detections = 0;
+  int on_loaded = 0;
+  for (size_t k = first; k < first + count; ++k) {
+    KeyframeInput keyframe = seq.keyframes[k];
+    if (k == first) {
+      keyframe.T_wc = last_of_first * keyframe.odometry->T_prev_cur;
+      keyframe.odometry.reset();
+    }
+    std::vector<DetectionAssignment> assignments;
+    EXPECT_TRUE(backend->AddKeyframe(keyframe, &assignments).ok());
+    EXPECT_TRUE(backend->OptimizeWindow().ok());
+    for (const DetectionAssignment& a : assignments) {
+      ++detections;
+      on_loaded += static_cast<int>(loaded.count(a.object));
+    }
+  }
+  return detections == 0
+             ? 0.0
+             : static_cast<double>(on_loaded) / static_cast<double>(detections);
+}
+
+// A map keeps the claim factors its run learned (docs/map-format.md): a run
+// from it weighs the overclaiming detector's claims times them from its
+// first keyframe, where a run that has to learn them again believes the
+// claims until it has noise_min_samples pairs, and its gates refuse the
+// detections meanwhile.
+TEST(BackendSequences, AMapKeepsTheClaimFactorsItsRunLearned) {
+  const ScriptedSequence seq = OverclaimingBoxSequence();
+  const size_t half = seq.keyframes.size() / 2;
+  ScriptedSequence first_half = seq;
+  first_half.keyframes.resize(half);
+  std::unique_ptr<Backend> before;
+  ASSERT_NO_FATAL_FAILURE(RunSequence(first_half, BackendOptions(), &before));
+  SavedMap map;
+  ASSERT_TRUE(before->SaveMap(&map).ok());
+  ASSERT_EQ(map.objects.size(), 1u);
+  ASSERT_EQ(map.noise.size(), 1u);
+  ASSERT_TRUE(map.noise[0].claim_factor_t && map.noise[0].claim_factor_r);
+  EXPECT_GT(*map.noise[0].claim_factor_t, 3.0);
+  EXPECT_GT(*map.noise[0].claim_factor_r, 3.0);
+  const Rigid3d last_of_first = before->Keyframes().back().T_wc;
+
+  SavedMap unlearned = map;
+  unlearned.noise[0].claim_factor_t.reset();
+  unlearned.noise[0].claim_factor_r.reset();
+  const size_t count = 15;
+  const double kept =
+      ShareOnLoadedObjects(seq, map, last_of_first, half, count);
+  const double relearned =
+      ShareOnLoadedObjects(seq, unlearned, last_of_first, half, count);
+  std::printf(
+      "[ claims ] share of the first %zu keyframes' detections on the loaded "
+      "box: %.2f with the map's claim factors, %.2f without\n",
+      count,
+      kept,
+      relearned);
+  EXPECT_GT(kept, 0.8);
+  EXPECT_LT(relearned, 0.4);
 }
 
 // The keyframe position RMSE of `poses` against the truth over keyframes

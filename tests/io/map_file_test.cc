@@ -62,7 +62,8 @@ MapObjectEstimate Table() {
 SavedMap Map() {
   SavedMap map;
   map.objects = {Chair(), Table()};
-  map.noise = {{"chair", 0.05, std::nullopt}, {"table", 0.031, 0.12}};
+  map.noise = {{"chair", 0.05},
+               {"table", 0.031, 0.12, 0.012, 0.034, 6.25, 1.0}};
   return map;
 }
 
@@ -93,6 +94,12 @@ TEST(MapFile, RoundTripKeepsEveryValueAndTheBytes) {
   EXPECT_EQ(read.noise[0].sigma_t, 0.05);
   EXPECT_FALSE(read.noise[0].sigma_r.has_value());
   EXPECT_EQ(read.noise[1].sigma_r, 0.12);
+  EXPECT_FALSE(read.noise[0].white_sigma_t || read.noise[0].white_sigma_r ||
+               read.noise[0].claim_factor_t || read.noise[0].claim_factor_r);
+  EXPECT_EQ(read.noise[1].white_sigma_t, 0.012);
+  EXPECT_EQ(read.noise[1].white_sigma_r, 0.034);
+  EXPECT_EQ(read.noise[1].claim_factor_t, 6.25);
+  EXPECT_EQ(read.noise[1].claim_factor_r, 1.0);
   // Writing what was read gives the same bytes, and so on.
   const std::string again = FormatMapFile(read);
   EXPECT_EQ(again, text);
@@ -254,6 +261,15 @@ TEST(MapFile, MalformedFilesAreRefusedWithWhereAndWhy) {
       {"noise sigma",
        Edited("\"sigma_t\": 0.05", "\"sigma_t\": 0"),
        "noise[0].sigma_t: must be positive"},
+      {"noise white sigma",
+       Edited("\"white_sigma_r\": 0.034", "\"white_sigma_r\": -0.034"),
+       "noise[1].white_sigma_r: must be positive"},
+      {"claim factor below 1",
+       Edited("\"claim_factor_t\": 6.25", "\"claim_factor_t\": 0.5"),
+       "noise[1].claim_factor_t: must be at least 1"},
+      {"claim factor not a number",
+       Edited("\"claim_factor_r\": 1.0", "\"claim_factor_r\": \"1\""),
+       "noise[1].claim_factor_r"},
   };
   for (const BadMap& c : cases) {
     SavedMap map = Map();

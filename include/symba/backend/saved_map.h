@@ -11,13 +11,23 @@
 
 namespace symba {
 
-// What a class's detections that give no sigma were weighed with when the
-// map was saved (the estimate their edges were built with; nullopt where
-// the run had none yet).
+// What a class's detections were weighed with when the map was saved
+// (docs/backend.md "Real detectors"; nullopt where the run had none yet),
+// so that a run from the map weighs them so from its first keyframe:
 struct SavedClassNoise {
   std::string class_name;
-  std::optional<double> sigma_t;  // m
-  std::optional<double> sigma_r;  // rad
+  // The estimate the edges of detections that give no sigma were built
+  // with.
+  std::optional<double> sigma_t{};  // m
+  std::optional<double> sigma_r{};  // rad
+  // The frame-to-frame part (sigma_I) that the class's detections weighed
+  // by their hypotheses' scatter are held to.
+  std::optional<double> white_sigma_t{};  // m
+  std::optional<double> white_sigma_r{};  // rad
+  // The factors the class's declared sigmas were multiplied by (>= 1; the
+  // claims stood where nullopt).
+  std::optional<double> claim_factor_t{};
+  std::optional<double> claim_factor_r{};
 };
 
 // Map object ids are below this (Backend::LoadMap gives a loaded object

@@ -3,7 +3,9 @@
 //
 //   {"format": "symba-map", "version": 1,
 //    "objects": [ one record per object, as in objects.json ],
-//    "noise": [{"class": NAME, "sigma_t"?: m, "sigma_r"?: rad}]}
+//    "noise": [{"class": NAME, "sigma_t"?: m, "sigma_r"?: rad,
+//               "white_sigma_t"?: m, "white_sigma_r"?: rad,
+//               "claim_factor_t"?: >= 1, "claim_factor_r"?: >= 1}]}
 //
 // Writing what was read gives the same bytes: numbers are written as the
 // shortest text that reads back as the same double (covariances rounded to

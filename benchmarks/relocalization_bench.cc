@@ -17,7 +17,10 @@
 //   error         the found T_map_run against the true first pose (m, deg;
 //                 it includes the map's own error where it was drawn);
 //   new, dropped  map objects the whole run made (duplicates where the map
-//                 has the object) and loaded objects it dropped.
+//                 has the object) and loaded objects it dropped;
+//   RMSE          the run's keyframe position RMSE in the map's frame
+//                 against the truth (no alignment), and the same keyframes'
+//                 when the whole sequence is replayed at once.
 //
 //   symba-relocalization-bench [--seed N] [--map-keyframes N] [--starts N]
 //                              [--run-keyframes N]
@@ -117,11 +120,30 @@ struct StartResult {
   double seconds = 0.0;
   int new_objects = 0;      // map objects the run made
   int dropped_objects = 0;  // loaded objects it dropped
+  double rmse = 0.0;        // m, the run's keyframes, relocalised runs only
+  double whole_rmse = 0.0;  // m, the same keyframes in the whole run
 };
+
+// Keyframe position RMSE of `estimates` against the truth; with `only`,
+// over the keyframe ids in it.
+double KeyframeRmse(const symba::SimulatedSequence& s,
+                    const std::vector<symba::KeyframeEstimate>& estimates,
+                    const std::map<symba::KeyframeId, size_t>& index_of) {
+  double sum = 0.0;
+  size_t n = 0;
+  for (const symba::KeyframeEstimate& e : estimates) {
+    const auto it = index_of.find(e.id);
+    if (it == index_of.end()) continue;
+    sum += (e.T_wc.t - s.T_wc_true[it->second].t).squaredNorm();
+    ++n;
+  }
+  return n == 0 ? 0.0 : std::sqrt(sum / static_cast<double>(n));
+}
 
 StartResult RunFrom(const symba::SimulatedSequence& s,
                     const symba::SavedMap& map,
                     const std::map<symba::ObjectId, int>& map_truth,
+                    const std::vector<symba::KeyframeEstimate>& whole,
                     int start,
                     int count,
                     std::vector<MapObjectEstimate>* search_objects) {
@@ -168,10 +190,17 @@ StartResult RunFrom(const symba::SimulatedSequence& s,
       r.right = r.right && local != search_truth.end() &&
                 mapped != map_truth.end() && local->second == mapped->second;
     }
-    // The rest of the run in the map's frame: does it map anything again?
+    // The rest of the run in the map's frame: does it map anything again,
+    // does it stay in the map's frame?
     std::vector<KeyframeInput> rest(keyframes.begin() + report.keyframes,
                                     keyframes.end());
     Run(rest, backend.get());
+    std::map<symba::KeyframeId, size_t> index_of;
+    for (int k = start; k < start + count; ++k) {
+      index_of[s.keyframes[static_cast<size_t>(k)].id] = static_cast<size_t>(k);
+    }
+    r.rmse = KeyframeRmse(s, backend->Keyframes(), index_of);
+    r.whole_rmse = KeyframeRmse(s, whole, index_of);
   }
   std::map<symba::ObjectId, bool> kept;
   for (const MapObjectEstimate& o : map.objects) kept[o.id] = false;
@@ -239,6 +268,9 @@ int main(int argc, char** argv) {
     return 1;
   }
   const std::map<symba::ObjectId, int> map_truth = TrueObjects(s, *mapper);
+  // The whole sequence at once: the mapper goes on.
+  Run({s.keyframes.begin() + f.map_keyframes, s.keyframes.end()}, mapper.get());
+  const std::vector<symba::KeyframeEstimate> whole = mapper->Keyframes();
   std::printf(
       "- Command: `build/bin/symba-relocalization-bench --seed %u "
       "--map-keyframes %d --starts %d --run-keyframes %d%s`\n",
@@ -255,17 +287,18 @@ int main(int argc, char** argv) {
       s.objects.size());
   std::printf(
       "| start | relocalised after | matched objects | right | "
-      "error [m] | error [deg] | new map objects | dropped | time [s] |\n");
-  std::printf("|---:|---:|---:|---|---:|---:|---:|---:|---:|\n");
+      "error [m] | error [deg] | new map objects | dropped | time [s] | "
+      "keyframe RMSE [m] | whole run's [m] |\n");
+  std::printf("|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|\n");
   int relocalized = 0;
   int right = 0;
   int no_new_object = 0;
-  std::vector<double> needed, error_m, error_deg, seconds;
+  std::vector<double> needed, error_m, error_deg, seconds, ratios;
   for (int i = 0; i < f.starts; ++i) {
     const int start = f.map_keyframes + i * f.run_keyframes;
     std::vector<MapObjectEstimate> search_objects;
-    const StartResult r =
-        RunFrom(s, map, map_truth, start, f.run_keyframes, &search_objects);
+    const StartResult r = RunFrom(
+        s, map, map_truth, whole, start, f.run_keyframes, &search_objects);
     if (r.relocalized) {
       ++relocalized;
       right += r.right ? 1 : 0;
@@ -274,18 +307,23 @@ int main(int argc, char** argv) {
       error_m.push_back(r.error_m);
       error_deg.push_back(r.error_deg);
       seconds.push_back(r.seconds);
-      std::printf("| %d | %d | %d | %s | %.3f | %.2f | %d | %d | %.3f |\n",
-                  start,
-                  r.keyframes_needed,
-                  r.matched,
-                  r.right ? "yes" : "**no**",
-                  r.error_m,
-                  r.error_deg,
-                  r.new_objects,
-                  r.dropped_objects,
-                  r.seconds);
+      ratios.push_back(r.rmse / r.whole_rmse);
+      std::printf(
+          "| %d | %d | %d | %s | %.3f | %.2f | %d | %d | %.3f | %.3f | %.3f "
+          "|\n",
+          start,
+          r.keyframes_needed,
+          r.matched,
+          r.right ? "yes" : "**no**",
+          r.error_m,
+          r.error_deg,
+          r.new_objects,
+          r.dropped_objects,
+          r.seconds,
+          r.rmse,
+          r.whole_rmse);
     } else {
-      std::printf("| %d | not in %d | | | | | %d | %d | |\n",
+      std::printf("| %d | not in %d | | | | | %d | %d | | | |\n",
                   start,
                   f.run_keyframes,
                   r.new_objects,
@@ -296,7 +334,8 @@ int main(int argc, char** argv) {
       "\nRelocalised from %d of %d start points (%d right, %d "
       "wrong); median %.0f keyframes to relocalise, median error "
       "%.3f m / %.2f deg, median time %.3f s; %d of the relocalised "
-      "runs made no new map object.\n",
+      "runs made no new map object; keyframe RMSE over the whole run's on "
+      "the same keyframes: median %.2f, max %.2f.\n",
       relocalized,
       f.starts,
       right,
@@ -305,6 +344,8 @@ int main(int argc, char** argv) {
       Median(error_m),
       Median(error_deg),
       Median(seconds),
-      no_new_object);
+      no_new_object,
+      Median(ratios),
+      ratios.empty() ? 0.0 : *std::max_element(ratios.begin(), ratios.end()));
   return 0;
 }

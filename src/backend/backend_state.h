@@ -193,6 +193,13 @@ inline bool IsMapped(const ObjectState& o) {
   return o.status == ObjectStatus::kConfirmed && !o.observations.empty();
 }
 
+// A loaded map's object (ObjectMap::Load) that no detection of this run has
+// gone to yet: it is where the map has it, in the map's frame.
+inline bool IsLoadedUnseen(const ObjectState& o) {
+  return o.status == ObjectStatus::kConfirmed && o.observations.empty() &&
+         o.created_keyframe < 0 && o.last_keyframe < 0;
+}
+
 struct PointState {
   int64_t id = 0;
   double p[3] = {0, 0, 0};   // p_w

@@ -38,11 +38,14 @@ Backend::Impl::LoopCandidates Backend::Impl::ObjectLoopCandidates() const {
   }
   // Last seen before the recent objects were first seen, and before the
   // window: their observations all precede the duplicates', and only the
-  // keyframe graph can move the keyframes that saw them.
+  // keyframe graph can move the keyframes that saw them. A loaded map's
+  // objects this run has not seen are there too: the run, placed in the
+  // map's frame, may come back to them off by its drift since.
   const int seen_before = std::min(first_recent, n - options_.window_size);
   for (const auto& object : objects) {
-    if (internal::IsMapped(*object) && object->last_keyframe >= 0 &&
-        object->last_keyframe < seen_before) {
+    if ((internal::IsMapped(*object) && object->last_keyframe >= 0 &&
+         object->last_keyframe < seen_before) ||
+        internal::IsLoadedUnseen(*object)) {
       candidates.earlier.push_back(EstimateOf(*object));
     }
   }
@@ -139,10 +142,12 @@ bool Backend::Impl::CloseLoopFromObjects() {
   const ConstellationMatch& match = *result.match;
 
   // The loop: the newest keyframe, where the match puts it, relative to the
-  // last keyframe that saw one of the recognised objects.
+  // last keyframe that saw one of the recognised objects; relative to the
+  // first keyframe if they are a loaded map's that this run has not seen
+  // (the first keyframe holds the map's frame, and so do they).
   const internal::KeyframeList& keyframes = trajectory_.keyframes();
   const int k = static_cast<int>(keyframes.size()) - 1;
-  int earlier = -1;
+  int earlier = 0;
   for (const ObjectCorrespondence& c : match.correspondences) {
     earlier = std::max(earlier, map_.objects()[c.map]->last_keyframe);
   }

@@ -73,30 +73,23 @@ Status Objects(const JsonTreeReader& r,
   return status;
 }
 
-Status OptionalPositive(const JsonTreeReader& r,
-                        JsonTree::Index object,
-                        const JsonPath& where,
-                        const char* key,
-                        std::optional<double>* value) {
-  const JsonTree::Index member = r.Find(object, key);
-  if (member == 0) return Status::Ok();
-  double v = 0.0;
-  Status status = r.Positive(member, where.Member(key), &v);
-  if (status.ok()) *value = v;
-  return status;
-}
+// An optional number: positive (a sigma), or at least 1 (a claim factor,
+// which multiplies a declared sigma and never lowers it).
+enum class AtLeast { kPositive, kOne };
 
-// A claim factor multiplies a declared sigma and never lowers it.
-Status OptionalClaimFactor(const JsonTreeReader& r,
-                           JsonTree::Index object,
-                           const JsonPath& where,
-                           const char* key,
-                           std::optional<double>* value) {
+Status OptionalNumber(const JsonTreeReader& r,
+                      JsonTree::Index object,
+                      const JsonPath& where,
+                      const char* key,
+                      AtLeast at_least,
+                      std::optional<double>* value) {
   const JsonTree::Index member = r.Find(object, key);
   if (member == 0) return Status::Ok();
   double v = 0.0;
-  Status status = r.Number(member, where.Member(key), &v);
-  if (status.ok() && !(v >= 1.0)) {
+  Status status = at_least == AtLeast::kPositive
+                      ? r.Positive(member, where.Member(key), &v)
+                      : r.Number(member, where.Member(key), &v);
+  if (status.ok() && at_least == AtLeast::kOne && !(v >= 1.0)) {
     status = r.Fail(where.Member(key), "must be at least 1");
   }
   if (status.ok()) *value = v;
@@ -126,25 +119,23 @@ Status Noise(const JsonTreeReader& r,
                       "classes must be sorted by name, each once");
     }
     entry.class_name = std::string(name);
-    if (status.ok())
-      status = OptionalPositive(r, e, where, "sigma_t", &entry.sigma_t);
-    if (status.ok())
-      status = OptionalPositive(r, e, where, "sigma_r", &entry.sigma_r);
-    if (status.ok()) {
-      status =
-          OptionalPositive(r, e, where, "white_sigma_t", &entry.white_sigma_t);
+    const std::pair<const char*, std::optional<double>*> sigmas[] = {
+        {"sigma_t", &entry.sigma_t},
+        {"sigma_r", &entry.sigma_r},
+        {"white_sigma_t", &entry.white_sigma_t},
+        {"white_sigma_r", &entry.white_sigma_r}};
+    for (const auto& [key, value] : sigmas) {
+      if (status.ok()) {
+        status = OptionalNumber(r, e, where, key, AtLeast::kPositive, value);
+      }
     }
-    if (status.ok()) {
-      status =
-          OptionalPositive(r, e, where, "white_sigma_r", &entry.white_sigma_r);
-    }
-    if (status.ok()) {
-      status = OptionalClaimFactor(
-          r, e, where, "claim_factor_t", &entry.claim_factor_t);
-    }
-    if (status.ok()) {
-      status = OptionalClaimFactor(
-          r, e, where, "claim_factor_r", &entry.claim_factor_r);
+    const std::pair<const char*, std::optional<double>*> factors[] = {
+        {"claim_factor_t", &entry.claim_factor_t},
+        {"claim_factor_r", &entry.claim_factor_r}};
+    for (const auto& [key, value] : factors) {
+      if (status.ok()) {
+        status = OptionalNumber(r, e, where, key, AtLeast::kOne, value);
+      }
     }
     if (!status.ok()) return status;
     previous = entry.class_name;

@@ -124,8 +124,8 @@ struct StartResult {
   double whole_rmse = 0.0;  // m, the same keyframes in the whole run
 };
 
-// Keyframe position RMSE of `estimates` against the truth; with `only`,
-// over the keyframe ids in it.
+// Keyframe position RMSE against the truth of the `estimates` whose ids
+// `index_of` holds (id -> index into the sequence).
 double KeyframeRmse(const symba::SimulatedSequence& s,
                     const std::vector<symba::KeyframeEstimate>& estimates,
                     const std::map<symba::KeyframeId, size_t>& index_of) {

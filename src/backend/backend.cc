@@ -569,6 +569,8 @@ Status Backend::LoadMap(
   status = Create(
       impl_->options_, impl_->intrinsics_, impl_->class_priors_, &search);
   if (!status.ok()) return status;  // cannot fail: these created impl_
+  // The search weighs the detections as the run from the map will.
+  search->impl_->RestoreNoise(map.noise);
   RelocalizationOptions options = *relocalize;
   // A discrete class's order from its prior, unless the caller gave one.
   for (const auto& [name, prior] : impl_->class_priors_) {

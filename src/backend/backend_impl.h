@@ -65,6 +65,10 @@ class Backend::Impl {
   // A map that lasts (saved_map.cc, docs/map-format.md).
   Status SaveMap(SavedMap* map);
   Status LoadMap(const SavedMap& map);
+  // Weighs the classes' detections as a saved map's run last did
+  // (SavedClassNoise), before the first keyframe; nothing without
+  // estimate_noise (the options' weights stand).
+  void RestoreNoise(const std::vector<SavedClassNoise>& noise);
 
   const BackendOptions options_;
   // As created (a relocalisation's search is created alike).
@@ -185,10 +189,14 @@ class Backend::Impl {
   // the association takes it, over sqrt(keyframes that detected it).
   double PositionSigma(const internal::ObjectState& o) const;
   struct LoopCandidates {
-    std::vector<MapObjectEstimate> recent;   // first detected recently
-    std::vector<MapObjectEstimate> earlier;  // last detected before them
+    std::vector<MapObjectEstimate> recent;  // first detected recently
+    // Last detected before them, or a loaded map's not detected yet.
+    std::vector<MapObjectEstimate> earlier;
   };
   LoopCandidates ObjectLoopCandidates() const;
+  // The last keyframe (index) that detected a loaded map's object; -1 if
+  // none did.
+  int LastKeyframeOnLoadedObjects() const;
   // Whether `correction` (T_wc <- correction T_wc) of keyframe `later` is
   // within loop_drift_factor times the drift the camera motion could have
   // made since keyframe `earlier` (and the matcher's gates).

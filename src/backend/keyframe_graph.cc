@@ -107,6 +107,7 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
     if (count == 0) continue;
     const int64_t vertex = n + static_cast<int64_t>(o);
     graph.poses.emplace(vertex, Normalized(object.T_wo));
+    if (object.fixed) graph.fixed.insert(vertex);
     const int edges = std::min(count, kMaxObjectEdges);
     const double weight = static_cast<double>(count) / edges;
     Matrix6d information = Matrix6d::Zero();

@@ -90,6 +90,9 @@ struct GraphObject {
   Eigen::Vector3d axis_w = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> measured_axes;
   double sigma_axis = 0.0;
+  // A loaded map's object: where the map has it (a constant vertex; its
+  // prior holds it there in the window's solves).
+  bool fixed = false;
 
   bool HasAxis() const {
     return !rotation && !measured_axes.empty() &&

@@ -78,7 +78,8 @@ class ObjectEdges {
   bool ApplyNoise(const std::string& class_name, const ClassNoise& estimate);
   // Sets the class's applied noise as it is (a loaded map's: the claim
   // scales are the factors, not estimates to test against the tolerance).
-  // Before the class's first edge, so nothing is rebuilt.
+  // Nothing is rebuilt: called before the first keyframe only
+  // (Backend::LoadMap refuses a backend that has one).
   void RestoreNoise(const std::string& class_name, const ClassNoise& applied) {
     applied_noise_[class_name] = applied;
   }

@@ -3,10 +3,12 @@
 // drifted, the objects there are too far from the map's to be associated
 // and are mapped again. Once such duplicates are confirmed, their
 // constellation is matched against the objects the camera has not seen
-// since before them (MatchConstellation: symmetry-aware, refusing an
-// ambiguous match); a match closes a loop to the keyframe that last saw the
-// place, which moves the past (loop_closure.cc), and each duplicate is then
-// merged into the object it is.
+// since before them and a loaded map's objects it has not seen yet
+// (MatchConstellation: symmetry-aware, refusing an ambiguous match); a
+// match closes a loop to the keyframe that last saw the place (for a loaded
+// map's unseen objects: the last keyframe tied to the map), which moves the
+// past (loop_closure.cc), and each duplicate is then merged into the object
+// it is.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -50,6 +52,17 @@ Backend::Impl::LoopCandidates Backend::Impl::ObjectLoopCandidates() const {
     }
   }
   return candidates;
+}
+
+int Backend::Impl::LastKeyframeOnLoadedObjects() const {
+  int last = -1;
+  for (const auto& object : map_.objects()) {
+    if (object->created_keyframe < 0 &&
+        object->status == internal::ObjectStatus::kConfirmed) {
+      last = std::max(last, object->last_keyframe);
+    }
+  }
+  return last;
 }
 
 bool Backend::Impl::WithinPossibleDrift(int earlier,
@@ -142,16 +155,20 @@ bool Backend::Impl::CloseLoopFromObjects() {
   const ConstellationMatch& match = *result.match;
 
   // The loop: the newest keyframe, where the match puts it, relative to the
-  // last keyframe that saw one of the recognised objects; relative to the
-  // first keyframe if they are a loaded map's that this run has not seen
-  // (the first keyframe holds the map's frame, and so do they).
+  // last keyframe that saw one of the recognised objects. If they are all a
+  // loaded map's that this run has not seen, relative to the last keyframe
+  // that saw any loaded object (the map's priors hold it in the map's
+  // frame), or else to the first keyframe (which holds it).
   const internal::KeyframeList& keyframes = trajectory_.keyframes();
   const int k = static_cast<int>(keyframes.size()) - 1;
-  int earlier = 0;
+  int earlier = -1;
   for (const ObjectCorrespondence& c : match.correspondences) {
     earlier = std::max(earlier, map_.objects()[c.map]->last_keyframe);
   }
-  if (!WithinPossibleDrift(earlier, k, match.T_map_local)) return false;
+  if (earlier < 0) earlier = std::max(0, LastKeyframeOnLoadedObjects());
+  if (earlier >= k || !WithinPossibleDrift(earlier, k, match.T_map_local)) {
+    return false;
+  }
   LoopClosureInput closure;
   closure.keyframe = keyframes[earlier]->id;
   closure.T = keyframes[earlier]->T_wc().Inverse() *

@@ -139,16 +139,34 @@ Status Backend::Impl::SaveMap(SavedMap* map) {
     }
   }
   for (const auto& [name, noise] : edges_.applied_noise()) {
-    saved.noise.push_back({name,
-                           noise.sigma_t,
-                           noise.sigma_r,
-                           noise.white_sigma_t,
-                           noise.white_sigma_r,
-                           noise.claim_scale_t,
-                           noise.claim_scale_r});
+    SavedClassNoise n;
+    n.class_name = name;
+    n.sigma_t = noise.sigma_t;
+    n.sigma_r = noise.sigma_r;
+    n.white_sigma_t = noise.white_sigma_t;
+    n.white_sigma_r = noise.white_sigma_r;
+    n.claim_factor_t = noise.claim_scale_t;  // applied: the factors
+    n.claim_factor_r = noise.claim_scale_r;
+    saved.noise.push_back(std::move(n));
   }
   *map = std::move(saved);
   return Status::Ok();
+}
+
+void Backend::Impl::RestoreNoise(const std::vector<SavedClassNoise>& noise) {
+  if (!options_.estimate_noise) return;
+  for (const SavedClassNoise& n : noise) {
+    // As the saving run last applied it; the run's own estimates take over
+    // as they move away from it (ObjectEdges::ApplyNoise).
+    internal::ClassNoise applied;
+    applied.sigma_t = n.sigma_t;
+    applied.sigma_r = n.sigma_r;
+    applied.white_sigma_t = n.white_sigma_t;
+    applied.white_sigma_r = n.white_sigma_r;
+    applied.claim_scale_t = n.claim_factor_t;
+    applied.claim_scale_r = n.claim_factor_r;
+    edges_.RestoreNoise(n.class_name, applied);
+  }
 }
 
 Status Backend::Impl::LoadMap(const SavedMap& map) {
@@ -164,18 +182,7 @@ Status Backend::Impl::LoadMap(const SavedMap& map) {
     return a->id < b->id;
   });
   for (const MapObjectEstimate* o : by_id) map_.Load(*o);
-  for (const SavedClassNoise& n : map.noise) {
-    // As the saving run last applied it; the run's own estimates take over
-    // as they move away from it (ObjectEdges::ApplyNoise).
-    internal::ClassNoise noise;
-    noise.sigma_t = n.sigma_t;
-    noise.sigma_r = n.sigma_r;
-    noise.white_sigma_t = n.white_sigma_t;
-    noise.white_sigma_r = n.white_sigma_r;
-    noise.claim_scale_t = n.claim_factor_t;
-    noise.claim_scale_r = n.claim_factor_r;
-    edges_.RestoreNoise(n.class_name, noise);
-  }
+  RestoreNoise(map.noise);
   map_loaded_ = true;
   return Status::Ok();
 }

@@ -90,7 +90,8 @@ Status OptionalNumber(const JsonTreeReader& r,
                       ? r.Positive(member, where.Member(key), &v)
                       : r.Number(member, where.Member(key), &v);
   if (status.ok() && at_least == AtLeast::kOne && !(v >= 1.0)) {
-    status = r.Fail(where.Member(key), "must be at least 1");
+    status = r.Fail(where.Member(key),
+                    "must be at least 1, got " + r.Describe(member));
   }
   if (status.ok()) *value = v;
   return status;

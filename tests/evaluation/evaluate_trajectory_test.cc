@@ -17,7 +17,12 @@ namespace fs = std::filesystem;
 class GroundTruthObjectListTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    path_ = (fs::path(::testing::TempDir()) / "gt_objects_list.txt").string();
+    // One file per test: ctest runs this fixture's tests as concurrent
+    // processes, which must not write the same file.
+    const std::string test =
+        ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    path_ = (fs::path(::testing::TempDir()) / ("gt_objects_" + test + ".txt"))
+                .string();
   }
   void TearDown() override { fs::remove(path_); }
 

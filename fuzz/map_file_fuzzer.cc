@@ -4,13 +4,16 @@
 // For every input, taken as a map file:
 //   1. ParseMapFile either fails with a message naming the file, leaving
 //      the map it was given unchanged, or returns a map whose objects have
-//      unique ids >= 0, one pose per angle and finite numbers.
+//      unique ids >= 0, one pose per angle and finite numbers, and noise
+//      entries whose sigmas are positive and claim factors at least 1.
 //   2. Whatever it accepted writes, reads back and writes again as the same
 //      bytes (docs/map-format.md).
 // A violated check aborts, which libFuzzer reports as a crash.
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -34,6 +37,18 @@ void CheckAccepted(const SavedMap& map) {
         o.symmetry == SymmetryType::kDiscrete ? o.angles.size() : 1;
     Check(o.poses.size() == poses && poses > 0, "one pose per angle");
     Check(o.t_wo.allFinite(), "finite position");
+  }
+  for (const SavedClassNoise& n : map.noise) {
+    for (const std::optional<double>& sigma :
+         {n.sigma_t, n.sigma_r, n.white_sigma_t, n.white_sigma_r}) {
+      Check(!sigma || (std::isfinite(*sigma) && *sigma > 0.0),
+            "positive finite sigmas");
+    }
+    for (const std::optional<double>& factor :
+         {n.claim_factor_t, n.claim_factor_r}) {
+      Check(!factor || (std::isfinite(*factor) && *factor >= 1.0),
+            "claim factors at least 1");
+    }
   }
 }
 

@@ -193,11 +193,15 @@ inline bool IsMapped(const ObjectState& o) {
   return o.status == ObjectStatus::kConfirmed && !o.observations.empty();
 }
 
-// A loaded map's object (ObjectMap::Load) that no detection of this run has
-// gone to yet: it is where the map has it, in the map's frame.
+// A loaded map's object (ObjectMap::Load creates it at no keyframe), or a
+// duplicate merged into one; dropped ones too.
+inline bool IsLoaded(const ObjectState& o) { return o.created_keyframe < 0; }
+
+// A loaded map's object that no detection of this run has gone to yet: it
+// is where the map has it, in the map's frame.
 inline bool IsLoadedUnseen(const ObjectState& o) {
-  return o.status == ObjectStatus::kConfirmed && o.observations.empty() &&
-         o.created_keyframe < 0 && o.last_keyframe < 0;
+  return IsLoaded(o) && o.status == ObjectStatus::kConfirmed &&
+         o.observations.empty() && o.last_keyframe < 0;
 }
 
 struct PointState {

@@ -224,7 +224,7 @@ std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
     g.rotation = object.type == SymmetryType::kAsymmetric &&
                  options_.method == Method::kSymba;
     g.T_wo = Rigid3d(object.Rotation(-1), object.position());
-    g.fixed = object.created_keyframe < 0;  // loaded (ObjectMap::Load)
+    g.fixed = internal::IsLoaded(object);
     // A symmetric object's detections measure its axis (symba only).
     const bool symmetric_axis = object.type != SymmetryType::kAsymmetric &&
                                 options_.method == Method::kSymba;

@@ -57,7 +57,7 @@ Backend::Impl::LoopCandidates Backend::Impl::ObjectLoopCandidates() const {
 int Backend::Impl::LastKeyframeOnLoadedObjects() const {
   int last = -1;
   for (const auto& object : map_.objects()) {
-    if (object->created_keyframe < 0 &&
+    if (internal::IsLoaded(*object) &&
         object->status == internal::ObjectStatus::kConfirmed) {
       last = std::max(last, object->last_keyframe);
     }

@@ -82,6 +82,7 @@ class BackendOptions:
     noise_min_samples: int
     noise_update_ratio: float
     claimed_noise_tolerance: float
+    motion_noise_tolerance: float
     uncalibrated_sigma_t: float
     uncalibrated_sigma_r: float
     scatter_min_hypotheses: int

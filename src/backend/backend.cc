@@ -177,7 +177,8 @@ Status Backend::Impl::AddKeyframe(
 
   // Nothing below can fail: the keyframe is added whole.
   const size_t first_assignment = assignments_.size();
-  const int k = trajectory_.Add(input);
+  const int k = trajectory_.Add(
+      input, options_.estimate_noise ? map_.mutable_motion_claims() : nullptr);
   const std::vector<Revisit> revisits = Revisits(k, input);
   for (size_t d = 0; d < input.detections.size(); ++d) {
     AddDetection(k,

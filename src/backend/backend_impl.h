@@ -55,7 +55,11 @@ class Backend::Impl {
   std::optional<KeyframeEstimate> Keyframe(KeyframeId id) const;
   std::optional<MapObjectEstimate> Object(ObjectId id) const;
   std::vector<ClassNoiseEstimate> Noise() const;
-  MotionNoiseReport MotionNoise() const { return trajectory_.MotionNoise(); }
+  MotionNoiseReport MotionNoise() const {
+    MotionNoiseReport report = trajectory_.MotionNoise();
+    report.claims = map_.motion_claims().Report();
+    return report;
+  }
   // The closed loops' reports and the waiting ones'.
   std::vector<LoopClosureReport> LoopClosures() const;
   Status ObjectCovariances(std::vector<MapObjectCovariance>* covariances);
@@ -105,11 +109,13 @@ class Backend::Impl {
   // What a declared sigma_t of the class is multiplied by (1: the claims
   // hold; ObjectEdges::ApplyNoise).
   double ClaimFactorT(const std::string& class_name) const;
-  // A detection that declares its sigma, as a test of the claim
+  // A detection that declares its sigma, or is weighed by its hypotheses'
+  // scatter, as a test of the claim and of the front end's step
   // (claim_pairs.h).
   void SampleClaim(int k,
                    const DetectionInput& detection,
-                   const CategorizedDetection* categorized);
+                   const CategorizedDetection* categorized,
+                   const std::optional<HypothesisScatter>& scatter);
   int AddSingleOrMultiHypothesis(
       int k,
       const DetectionInput& detection,

@@ -233,6 +233,13 @@ void AppendRealDetectorOptions(OptionTable<BackendOptions>* table) {
                           "with estimate_noise: the factor by which a class's "
                           "frame-to-frame changes may exceed its declared "
                           "sigmas before they are scaled"),
+          DoubleOption<O>("motion_noise_tolerance",
+                          &O::motion_noise_tolerance,
+                          "",
+                          AtLeast(1.0),
+                          "with estimate_noise: factor by which a front end's "
+                          "steps may exceed their stated sigmas before they "
+                          "are scaled"),
           DoubleOption<O>("uncalibrated_sigma_t",
                           &O::uncalibrated_sigma_t,
                           "m",

@@ -24,7 +24,8 @@ const ClaimedDetection* ClaimPairs::Nearest(
 void ClaimPairs::Add(int k,
                      const ClaimedDetection& detection,
                      const std::optional<StepVariance>& step,
-                     DetectionNoiseEstimator* noise) {
+                     DetectionNoiseEstimator* noise,
+                     MotionClaims* motion) {
   if (k != keyframe_) {
     previous_ = std::move(current_);
     current_.clear();
@@ -38,14 +39,22 @@ void ClaimPairs::Add(int k,
   const ClaimedDetection* a = Nearest(detection);
   if (a == nullptr) return;
   using Component = DetectionNoiseEstimator::Component;
+  const double distance_squared = detection.distance * detection.distance;
+  if (motion != nullptr && a->variance_t > 0.0 && detection.variance_t > 0.0) {
+    motion->Add(step->stated_t,
+                step->stated_r,
+                (detection.p_w - a->p_w).squaredNorm(),
+                a->variance_t + detection.variance_t,
+                step->stated_t * step->stated_t +
+                    distance_squared * step->stated_r * step->stated_r);
+  }
   if (a->sigma_t && detection.sigma_t) {
     noise->AddClaimPair(
         detection.class_name,
         Component::kTranslation,
         (detection.p_w - a->p_w).squaredNorm(),
         *a->sigma_t * *a->sigma_t + *detection.sigma_t * *detection.sigma_t,
-        step_variance_t +
-            detection.distance * detection.distance * step_variance_r);
+        step_variance_t + distance_squared * step_variance_r);
   }
   if (a->sigma_r && detection.sigma_r && a->R_w && detection.R_w) {
     const double angle = a->R_w->angularDistance(*detection.R_w);

@@ -4,7 +4,9 @@
 // keyframe, both where the front end alone puts them (the chained poses).
 // Between consecutive keyframes the front end's drift is one step's, which
 // the step's motion noise states, so a change far beyond what the claims
-// and that step predict is the detector's own frame-to-frame noise. Each
+// and that step predict is the detector's own frame-to-frame noise; and,
+// where the detections' noise is known, a change far beyond it is the
+// step's (motion_claims.h): the two tests share the pairs. Each
 // pair gives, for translation, |p_b - p_a|^2, sigma_t,a^2 + sigma_t,b^2 and
 // s_t^2 + d^2 s_r^2, and for rotation angle(R_a^T R_b)^2, sigma_r,a^2 +
 // sigma_r,b^2 and s_r^2 (p world positions in m, R world rotations of
@@ -26,6 +28,7 @@
 #include <Eigen/Geometry>
 
 #include "backend/detection_noise.h"
+#include "backend/motion_claims.h"
 
 namespace symba::internal {
 
@@ -36,11 +39,20 @@ struct ClaimedDetection {
   std::optional<double> sigma_t;                  // m, as declared
   std::optional<double> sigma_r;                  // rad, as declared
   double distance = 0.0;                          // m, |t_co|
+  // The position noise per axis the pair's test of the front end's step
+  // subtracts (m^2; motion_claims.h): a declared sigma_t times its class's
+  // claim factor, or a multi-hypothesis detection's scatter, squared; 0:
+  // not known (the detection tests no step).
+  double variance_t = 0.0;
 };
 
 struct StepVariance {
   double t = 0.0;  // m^2
   double r = 0.0;  // rad^2
+  // The sigmas the front end stated for the step (m, rad), which t and r
+  // are those times a factor (KeyframeState::motion_scale) of.
+  double stated_t = 0.0;
+  double stated_r = 0.0;
 };
 
 class ClaimPairs {
@@ -53,11 +65,14 @@ class ClaimPairs {
   // motion factor starts elsewhere (a front-end pose after keyframes
   // without one): the change from k - 1 then holds steps no variance
   // states, and the detection is kept only to pair with keyframe k + 1's.
-  // Keyframes come in increasing order; its pair, if any, goes to `noise`.
+  // Keyframes come in increasing order; its pair, if any, goes to `noise`
+  // (where both declare their sigmas) and to `motion` (where both have a
+  // variance_t).
   void Add(int k,
            const ClaimedDetection& detection,
            const std::optional<StepVariance>& step,
-           DetectionNoiseEstimator* noise);
+           DetectionNoiseEstimator* noise,
+           MotionClaims* motion);
 
  private:
   const ClaimedDetection* Nearest(const ClaimedDetection& detection) const;

@@ -154,14 +154,17 @@ void Backend::Impl::AddDetection(
                      categorized != nullptr
                          ? categorized->t_co
                          : detection.hypotheses.front().T_co.t);
-  if (options_.estimate_noise && (detection.sigma_t || detection.sigma_r)) {
-    SampleClaim(k, detection, categorized);
+  if (options_.estimate_noise &&
+      (detection.sigma_t || detection.sigma_r || scatter)) {
+    SampleClaim(k, detection, categorized, scatter);
   }
 }
 
-void Backend::Impl::SampleClaim(int k,
-                                const DetectionInput& detection,
-                                const CategorizedDetection* categorized) {
+void Backend::Impl::SampleClaim(
+    int k,
+    const DetectionInput& detection,
+    const CategorizedDetection* categorized,
+    const std::optional<HypothesisScatter>& scatter) {
   const KeyframeState& kf = *trajectory_.keyframes()[k];
   // Where its edge puts it: the categorisation's pose (its rotation only
   // when asymmetric: a symmetric one's is not one pose), or a baseline's
@@ -191,13 +194,24 @@ void Backend::Impl::SampleClaim(int k,
   claimed.p_w = kf.T_wc_chain * t_co;
   if (R_co) claimed.R_w = (kf.T_wc_chain.q * R_co->normalized()).normalized();
   // As the edge takes them (SetObservationNoise): a detection that
-  // declares one sigma claims the default for the other.
-  claimed.sigma_t = detection.sigma_t.value_or(options_.hypothesis_sigma_t);
-  claimed.sigma_r = detection.sigma_r.value_or(options_.hypothesis_sigma_r);
+  // declares one sigma claims the default for the other; one weighed by
+  // its scatter claims nothing, but its noise is known.
+  if (detection.sigma_t || detection.sigma_r) {
+    claimed.sigma_t = detection.sigma_t.value_or(options_.hypothesis_sigma_t);
+    claimed.sigma_r = detection.sigma_r.value_or(options_.hypothesis_sigma_r);
+    const double sigma_t =
+        *claimed.sigma_t * ClaimFactorT(detection.class_name);
+    claimed.variance_t = sigma_t * sigma_t;
+  } else if (scatter) {
+    claimed.variance_t = scatter->sigma_t * scatter->sigma_t;
+  }
   claimed.distance = t_co.norm();
   std::optional<internal::StepVariance> step;
   if (kf.motion_from == k - 1) {
-    step = internal::StepVariance{kf.motion_variance_t, kf.motion_variance_r};
+    step = internal::StepVariance{kf.motion_variance_t,
+                                  kf.motion_variance_r,
+                                  kf.stated_motion_sigma_t,
+                                  kf.stated_motion_sigma_r};
   }
   map_.SampleClaim(k, claimed, step);
 }

@@ -24,6 +24,10 @@ ObjectMap::ObjectMap(const BackendOptions& options,
       statistics_(statistics),
       assignments_(assignments),
       noise_(options.noise_window, options.noise_min_samples),
+      motion_claims_(options.noise_window,
+                     options.noise_min_samples,
+                     options.motion_noise_tolerance,
+                     options.claimed_noise_tolerance),
       claim_pairs_(options.gate_position, options.gate_rotation) {}
 
 const ClassPrior* ObjectMap::PriorOf(const std::string& class_name) const {

@@ -49,6 +49,9 @@ class ObjectMap {
   // The objects of a class, dropped ones included.
   const std::vector<int>& ObjectsOfClass(const std::string& class_name) const;
   const DetectionNoiseEstimator& noise() const { return noise_; }
+  // The front end's stated motion noise as the objects test it.
+  const MotionClaims& motion_claims() const { return motion_claims_; }
+  MotionClaims* mutable_motion_claims() { return &motion_claims_; }
 
   // A new object of `class_name` at T_wo, first detected in keyframe k;
   // tentative when confirm_keyframes > 1. A symmetric one's axis and anchor
@@ -116,7 +119,7 @@ class ObjectMap {
   void SampleClaim(int k,
                    const ClaimedDetection& detection,
                    const std::optional<StepVariance>& step) {
-    claim_pairs_.Add(k, detection, step, &noise_);
+    claim_pairs_.Add(k, detection, step, &noise_, &motion_claims_);
   }
 
   // A detection of `class_name` weighed by its hypotheses' scatter, for
@@ -210,6 +213,7 @@ class ObjectMap {
   double view_cone_cos_ = 1.0;  // cos of the widest detection bearing
   double view_depth_ = 0.0;     // the largest detection distance (m)
   DetectionNoiseEstimator noise_;
+  MotionClaims motion_claims_;
   ClaimPairs claim_pairs_;
 };
 

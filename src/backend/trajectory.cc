@@ -37,7 +37,7 @@ int Trajectory::IndexOf(int64_t id) const {
   return static_cast<int>(it - keyframes_.begin());
 }
 
-int Trajectory::Add(const KeyframeInput& input) {
+int Trajectory::Add(const KeyframeInput& input, MotionClaims* claims) {
   auto kf = std::make_unique<KeyframeState>();
   kf->id = input.id;
   kf->timestamp = input.timestamp;
@@ -48,7 +48,7 @@ int Trajectory::Add(const KeyframeInput& input) {
   keyframes_.push_back(std::move(kf));
   graph_->SetManifold(keyframes_[k]->q, &quaternion_manifold_);
   ++statistics_->keyframes;
-  AddCameraFactors(k, input);
+  AddCameraFactors(k, input, claims);
   if (input.T_wc) last_frontend_keyframe_ = k;
   AddPointObservations(k, input);
   return k;
@@ -100,7 +100,9 @@ MotionNoiseReport Trajectory::MotionNoise() const {
   return report;
 }
 
-void Trajectory::AddCameraFactors(int k, const KeyframeInput& input) {
+void Trajectory::AddCameraFactors(int k,
+                                  const KeyframeInput& input,
+                                  MotionClaims* claims) {
   KeyframeState& kf = *keyframes_[k];
   int other = -1;
   Rigid3d T_other_cur;
@@ -122,13 +124,21 @@ void Trajectory::AddCameraFactors(int k, const KeyframeInput& input) {
     kf.summed_motion_variance_r = keyframes_[k - 1]->summed_motion_variance_r;
   }
   if (other < 0) return;
-  const double sigma_t = 1.0 / sqrt_info(0, 0);
-  const double sigma_r = 1.0 / sqrt_info(3, 3);
+  const double stated_t = 1.0 / sqrt_info(0, 0);
+  const double stated_r = 1.0 / sqrt_info(3, 3);
+  const double scale =
+      claims != nullptr ? claims->Factor(stated_t, stated_r) : 1.0;
+  const double sigma_t = scale * stated_t;
+  const double sigma_r = scale * stated_r;
+  if (scale != 1.0) sqrt_info /= scale;
+  kf.stated_motion_sigma_t = stated_t;
+  kf.stated_motion_sigma_r = stated_r;
+  kf.motion_scale = scale;
   StepSigmas& sigmas =
       other == k - 1 && input.odometry ? odometry_sigmas_ : frontend_sigmas_;
   ++sigmas.steps;
-  sigmas.t.Add(sigma_t);
-  sigmas.r.Add(sigma_r);
+  sigmas.t.Add(stated_t);
+  sigmas.r.Add(stated_r);
   kf.motion_variance_t = sigma_t * sigma_t;
   kf.motion_variance_r = sigma_r * sigma_r;
   kf.motion_from = other;

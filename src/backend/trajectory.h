@@ -19,6 +19,7 @@
 #include "backend/backend_state.h"
 #include "backend/detection_noise.h"
 #include "backend/factor_graph.h"
+#include "backend/motion_claims.h"
 #include "symba/backend/backend.h"
 
 namespace symba::internal {
@@ -44,8 +45,9 @@ class Trajectory {
   int IndexOf(int64_t id) const;
 
   // Adds a validated keyframe with its camera motion factor and point
-  // observations; returns its index.
-  int Add(const KeyframeInput& input);
+  // observations; returns its index. With `claims`, the motion factor's
+  // stated sigmas are multiplied by their group's factor.
+  int Add(const KeyframeInput& input, MotionClaims* claims);
   // The noise the motion factors were built with (MotionNoiseReport).
   MotionNoiseReport MotionNoise() const;
 
@@ -53,7 +55,9 @@ class Trajectory {
   Rigid3d InitialPose(const KeyframeInput& input) const;
   // Where the front end alone puts the keyframe (KeyframeState::T_wc_chain).
   Rigid3d ChainPose(const KeyframeInput& input) const;
-  void AddCameraFactors(int k, const KeyframeInput& input);
+  void AddCameraFactors(int k,
+                        const KeyframeInput& input,
+                        MotionClaims* claims);
   void AddPointObservations(int k, const KeyframeInput& input);
 
   const BackendOptions& options_;

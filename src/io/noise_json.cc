@@ -77,7 +77,16 @@ void WriteMotionNoise(const MotionNoiseReport& motion, JsonWriter* json) {
       .Member("steps", motion.frontend_steps);
   OptionalMember("sigma_t", motion.frontend_sigma_t, json);
   OptionalMember("sigma_r", motion.frontend_sigma_r, json);
-  json->EndObject().EndObject();
+  json->EndObject().Key("claims").BeginArray();
+  for (const MotionNoiseReport::Group& group : motion.claims) {
+    json->BeginObject()
+        .Member("stated_sigma_t", group.stated_sigma_t)
+        .Member("stated_sigma_r", group.stated_sigma_r)
+        .Member("pairs", group.pairs);
+    OptionalMember("scale", group.scale, json);
+    json->Member("factor", group.factor).EndObject();
+  }
+  json->EndArray().EndObject();
 }
 
 }  // namespace symba::io_internal

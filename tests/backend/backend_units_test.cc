@@ -16,6 +16,7 @@
 #include "backend/claim_pairs.h"
 #include "backend/detection_noise.h"
 #include "backend/detection_observations.h"
+#include "backend/motion_claims.h"
 #include "backend/upgrade_evidence.h"
 #include "backend/window_problem.h"
 #include "symba/categorization/categorize.h"
@@ -109,9 +110,9 @@ TEST(ClaimPairs, PairsConsecutiveKeyframesOfAClassByDistance) {
   far.p_w = Eigen::Vector3d(1.5, 0.0, 0.0);
   ClaimedDetection can = a;
   can.class_name = "can";
-  pairs.Add(3, a, StepVariance{}, &noise);
-  pairs.Add(3, far, StepVariance{}, &noise);
-  pairs.Add(3, can, StepVariance{}, &noise);
+  pairs.Add(3, a, StepVariance{}, &noise, nullptr);
+  pairs.Add(3, far, StepVariance{}, &noise, nullptr);
+  pairs.Add(3, can, StepVariance{}, &noise, nullptr);
   EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 0);
   ClaimedDetection b = a;
   b.p_w = Eigen::Vector3d(1.1, 0.0, 0.0);
@@ -119,7 +120,7 @@ TEST(ClaimPairs, PairsConsecutiveKeyframesOfAClassByDistance) {
   b.sigma_t = 0.02;
   const double s_t2 = 1e-6;
   const double s_r2 = 4e-6;
-  pairs.Add(4, b, StepVariance{s_t2, s_r2}, &noise);
+  pairs.Add(4, b, StepVariance{s_t2, s_r2}, &noise, nullptr);
   const ClassNoiseEstimate::Claims claims = noise.ClaimsReport("box");
   EXPECT_EQ(claims.translation_samples, 1);
   EXPECT_EQ(claims.rotation_samples, 1);
@@ -136,28 +137,28 @@ TEST(ClaimPairs, PairsConsecutiveKeyframesOfAClassByDistance) {
   // Not consecutive (keyframe 6 after 4): no pair; a rotation pair turned
   // beyond max_angle gives a translation sample only; beyond max_distance
   // there is no pair.
-  pairs.Add(6, a, StepVariance{}, &noise);
+  pairs.Add(6, a, StepVariance{}, &noise, nullptr);
   ClaimedDetection turned = a;
   turned.R_w =
       Eigen::Quaterniond(Eigen::AngleAxisd(0.6, Eigen::Vector3d::UnitZ()));
-  pairs.Add(7, turned, StepVariance{}, &noise);
+  pairs.Add(7, turned, StepVariance{}, &noise, nullptr);
   EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 2);
   EXPECT_EQ(noise.ClaimsReport("box").rotation_samples, 1);
   ClaimedDetection away = a;
   away.p_w = Eigen::Vector3d(1.0, 0.6, 0.0);
-  pairs.Add(8, away, StepVariance{}, &noise);
+  pairs.Add(8, away, StepVariance{}, &noise, nullptr);
   EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 2);
   // An unclaimed component gives no sample.
   ClaimedDetection unclaimed = away;
   unclaimed.sigma_r.reset();
-  pairs.Add(9, unclaimed, StepVariance{}, &noise);
+  pairs.Add(9, unclaimed, StepVariance{}, &noise, nullptr);
   EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 3);
   EXPECT_EQ(noise.ClaimsReport("box").rotation_samples, 1);
   // A keyframe whose motion factor does not start at the previous one
   // pairs with nothing, but the next keyframe pairs with it.
-  pairs.Add(10, away, std::nullopt, &noise);
+  pairs.Add(10, away, std::nullopt, &noise, nullptr);
   EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 3);
-  pairs.Add(11, away, StepVariance{}, &noise);
+  pairs.Add(11, away, StepVariance{}, &noise, nullptr);
   EXPECT_EQ(noise.ClaimsReport("box").translation_samples, 4);
 }
 
@@ -804,6 +805,103 @@ TEST(WindowProblem, HoldsExactlyTheActiveFactorsAndTheirBlocks) {
   problem.Sync({fb}, batch);
   EXPECT_EQ(problem.ProblemSize().residual_blocks, 1);
   EXPECT_EQ(problem.in_problem(), std::vector<int>{fb});
+}
+
+// A step stated as (s_t, s_r) is tested by pairs whose change |d|^2, with
+// the detections' variance c, makes g_i = sqrt(max(0, |d|^2 / 1.5382^2 -
+// T^2 c) / s^2); a group's factor is the median g once it exceeds the
+// tolerance (1.2 here), then while it exceeds 1, else 1; and only while
+// another group's median g is at most 1 (it vouches for the detections).
+TEST(MotionClaims, AGroupsFactorIsTheMedianOnceBeyondTheTolerance) {
+  const double chi2 = kChi3Median * kChi3Median;
+  const double s2 = 0.01;  // stated variance at the object, m^2
+  // Pairs at g for the step stated as (s_t, s_r).
+  const auto add =
+      [&](MotionClaims* claims, double s_t, double s_r, double g, int n) {
+        for (int i = 0; i < n; ++i)
+          claims->Add(s_t, s_r, chi2 * g * g * s2, 0.0, s2);
+      };
+  MotionClaims claims(/*window=*/10, /*min_samples=*/3, 1.2, 1.5);
+  // Unknown groups and groups below min_samples: 1.
+  EXPECT_EQ(claims.Factor(0.02, 0.04), 1.0);
+  add(&claims, 0.02, 0.04, 1.0, 1);
+  add(&claims, 0.02, 0.04, 3.0, 1);
+  EXPECT_EQ(claims.Factor(0.02, 0.04), 1.0);
+  add(&claims, 0.02, 0.04, 2.0, 1);  // median 2, but no other group
+  EXPECT_EQ(claims.Factor(0.02, 0.04), 1.0);
+  add(&claims, 0.01, 0.005, 0.5, 3);  // a group that vouches
+  EXPECT_NEAR(claims.Factor(0.02, 0.04), 2.0, 1e-12);
+  EXPECT_EQ(claims.Factor(0.01, 0.005), 1.0);
+  // Sigmas in one quarter octave (rounded) are one group.
+  EXPECT_NEAR(claims.Factor(0.0201, 0.0401), 2.0, 1e-12);
+  // A third group beyond the tolerance: the second still vouches.
+  add(&claims, 0.05, 0.1, 10.0, 3);
+  EXPECT_NEAR(claims.Factor(0.05, 0.1), 10.0, 1e-12);
+  EXPECT_NEAR(claims.Factor(0.02, 0.04), 2.0, 1e-12);
+  // The vouching group's pairs turn (g = 1.5 > 1): nobody vouches now.
+  add(&claims, 0.01, 0.005, 1.5, 10);
+  EXPECT_EQ(claims.Factor(0.02, 0.04), 1.0);
+
+  // The detections' variance, times T^2 = 2.25, is taken off first:
+  // |d|^2 / chi2 = 0.03, c = 0.004: g = sqrt((0.03 - 0.009) / 0.01).
+  MotionClaims noisy(10, 1, 1.2, 1.5);
+  add(&noisy, 0.01, 0.005, 0.0, 1);
+  noisy.Add(0.02, 0.04, chi2 * 0.03, 0.004, s2);
+  EXPECT_NEAR(noisy.Factor(0.02, 0.04), std::sqrt(2.1), 1e-12);
+
+  // Once applied, a factor stays while the median exceeds 1 (1.1 < 1.2)
+  // and falls to 1 below it; a group never applied stays at 1 below the
+  // tolerance.
+  MotionClaims hysteresis(3, 3, 1.2, 1.5);
+  add(&hysteresis, 0.01, 0.005, 0.5, 3);
+  add(&hysteresis, 0.02, 0.04, 2.0, 3);
+  EXPECT_NEAR(hysteresis.Factor(0.02, 0.04), 2.0, 1e-12);
+  add(&hysteresis, 0.02, 0.04, 1.1, 3);
+  EXPECT_NEAR(hysteresis.Factor(0.02, 0.04), 1.1, 1e-12);
+  add(&hysteresis, 0.02, 0.04, 0.9, 3);
+  EXPECT_EQ(hysteresis.Factor(0.02, 0.04), 1.0);
+  add(&hysteresis, 0.05, 0.1, 1.1, 3);
+  EXPECT_EQ(hysteresis.Factor(0.05, 0.1), 1.0);
+
+  const std::vector<MotionNoiseReport::Group> report = claims.Report();
+  ASSERT_EQ(report.size(), 3u);
+  EXPECT_EQ(report[0].stated_sigma_t, 0.01);  // in the order of the sigmas
+  EXPECT_EQ(report[0].pairs, 10);
+  EXPECT_NEAR(*report[0].scale, 1.5, 1e-12);
+  EXPECT_EQ(report[1].stated_sigma_r, 0.04);
+  EXPECT_EQ(report[1].factor, 1.0);
+  EXPECT_NEAR(report[2].factor, 10.0, 1e-12);  // as last applied
+}
+
+// The pairs test the step with the detections' known noise (variance_t):
+// |d|^2, variance_t of both and the stated s_t^2 + d^2 s_r^2 of the step;
+// a detection whose noise is not known tests nothing.
+TEST(ClaimPairs, PairsWithKnownNoiseTestTheFrontEndsStep) {
+  const double chi2 = kChi3Median * kChi3Median;
+  DetectionNoiseEstimator noise(100, 1);
+  MotionClaims motion(100, 1, 1.2, 1.0);
+  ClaimPairs pairs(0.5, 0.5);
+  ClaimedDetection a;  // weighed by its scatter: no claim, a known noise
+  a.class_name = "table";
+  a.p_w = Eigen::Vector3d(2.0, 0.0, 0.0);
+  a.distance = 2.0;
+  a.variance_t = 1e-4;
+  pairs.Add(0, a, std::nullopt, &noise, &motion);
+  ClaimedDetection b = a;
+  b.p_w = Eigen::Vector3d(2.3, 0.0, 0.0);
+  StepVariance step{4.0 * 0.01 * 0.01, 4.0 * 0.02 * 0.02, 0.01, 0.02};
+  pairs.Add(1, b, step, &noise, &motion);
+  EXPECT_EQ(noise.ClaimsReport("table").translation_samples, 0);
+  const double stated = 0.01 * 0.01 + 4.0 * 0.02 * 0.02;
+  ASSERT_EQ(motion.Report().size(), 1u);
+  EXPECT_NEAR(*motion.Report().front().scale,
+              std::sqrt((0.09 / chi2 - 2e-4) / stated),
+              1e-12);
+  ClaimedDetection unknown = b;
+  unknown.variance_t = 0.0;
+  unknown.p_w = Eigen::Vector3d(2.0, 0.0, 0.0);
+  pairs.Add(2, unknown, step, &noise, &motion);
+  EXPECT_EQ(motion.Report().front().pairs, 1);
 }
 
 }  // namespace

@@ -57,14 +57,14 @@ TEST_F(TrajectoryTest, OdometryMovesTheOptimisedPoseAndTheChain) {
   KeyframeInput first;
   first.id = 10;
   first.T_wc = PoseAt(1, 0, 0);
-  EXPECT_EQ(trajectory().Add(first), 0);
+  EXPECT_EQ(trajectory().Add(first, nullptr), 0);
   // As if a solve had moved keyframe 0 by 0.5 m along y.
   Eigen::Map<Eigen::Vector3d>(trajectory().keyframes()[0]->t) =
       Eigen::Vector3d(1, 0.5, 0);
   KeyframeInput second;
   second.id = 11;
   second.odometry = Odometry{PoseAt(0, 0, 2), 0.1, 0.2};
-  EXPECT_EQ(trajectory().Add(second), 1);
+  EXPECT_EQ(trajectory().Add(second, nullptr), 1);
   const KeyframeState& kf = *trajectory().keyframes()[1];
   EXPECT_LT((kf.T_wc().t - Eigen::Vector3d(1, 0.5, 2)).norm(), 1e-12);
   EXPECT_LT((kf.T_wc_chain.t - Eigen::Vector3d(1, 0, 2)).norm(), 1e-12);
@@ -86,13 +86,13 @@ TEST_F(TrajectoryTest, FrontEndPosesChainTheirRelativeMotion) {
   KeyframeInput first;
   first.id = 0;
   first.T_wc = PoseAt(0, 0, 0);
-  trajectory().Add(first);
+  trajectory().Add(first, nullptr);
   Eigen::Map<Eigen::Vector3d>(trajectory().keyframes()[0]->t) =
       Eigen::Vector3d(0, 0, 1);
   KeyframeInput second;
   second.id = 1;
   second.T_wc = PoseAt(3, 0, 0);
-  trajectory().Add(second);
+  trajectory().Add(second, nullptr);
   const KeyframeState& kf = *trajectory().keyframes()[1];
   EXPECT_LT((kf.T_wc().t - Eigen::Vector3d(3, 0, 1)).norm(), 1e-12);
   EXPECT_LT((kf.T_wc_chain.t - Eigen::Vector3d(3, 0, 0)).norm(), 1e-12);
@@ -116,17 +116,17 @@ TEST_F(TrajectoryTest, ReportsTheNoiseOfEachMotionFactorsSource) {
   KeyframeInput kf;
   kf.id = 1;
   kf.T_wc = PoseAt(0, 0, 0);
-  trajectory().Add(kf);
+  trajectory().Add(kf, nullptr);
   for (const double sigma_t : {0.01, 0.03, 0.02}) {
     KeyframeInput next;
     next.id = ++kf.id;
     next.odometry = Odometry{PoseAt(0, 0, 1), sigma_t, 2.0 * sigma_t};
-    trajectory().Add(next);
+    trajectory().Add(next, nullptr);
   }
   KeyframeInput posed;
   posed.id = ++kf.id;
   posed.T_wc = PoseAt(0, 0, 4);
-  trajectory().Add(posed);
+  trajectory().Add(posed, nullptr);
   const MotionNoiseReport report = trajectory().MotionNoise();
   EXPECT_EQ(report.odometry_steps, 3);
   EXPECT_DOUBLE_EQ(*report.odometry_sigma_t, 0.02);
@@ -160,14 +160,14 @@ TEST_F(TrajectoryTest, PointsAreCreatedFromADepth) {
   first.id = 0;
   first.T_wc = PoseAt(1, 0, 0);
   first.points = {PointObservation{7, Eigen::Vector2d(150, 50), std::nullopt}};
-  trajectory().Add(first);
+  trajectory().Add(first, nullptr);
   EXPECT_TRUE(trajectory().points().empty());
   EXPECT_TRUE(trajectory().keyframes()[0]->factors.empty());
   KeyframeInput second;
   second.id = 1;
   second.T_wc = PoseAt(1, 0, 0);
   second.points = {PointObservation{7, Eigen::Vector2d(150, 50), 2.0}};
-  trajectory().Add(second);
+  trajectory().Add(second, nullptr);
   ASSERT_EQ(trajectory().points().size(), 1u);
   // (150 - 50) / 100 * 2 = 2 m right of the camera, 2 m ahead.
   EXPECT_LT((Eigen::Map<const Eigen::Vector3d>(trajectory().points()[0]->p) -

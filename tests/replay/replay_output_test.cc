@@ -212,6 +212,17 @@ TEST(ReplayOutputTest, SummaryJsonReportsWhatTheBackendBelievedOfTheNoise) {
   result.motion.odometry_steps = 7;
   result.motion.odometry_sigma_t = 0.005;
   result.motion.odometry_sigma_r = 0.01;
+  MotionNoiseReport::Group featureless;
+  featureless.stated_sigma_t = 0.02;
+  featureless.stated_sigma_r = 0.04;
+  featureless.pairs = 36;
+  featureless.scale = 1.5;
+  featureless.factor = 1.5;
+  MotionNoiseReport::Group rich;
+  rich.stated_sigma_t = 0.005;
+  rich.stated_sigma_r = 0.01;
+  rich.pairs = 3;
+  result.motion.claims = {rich, featureless};
   const std::string json =
       FormatReplaySummaryJson("log.jsonl", ReplayOptions(), result);
   // In order; no rotation estimate yet: null.
@@ -249,7 +260,18 @@ TEST(ReplayOutputTest, SummaryJsonReportsWhatTheBackendBelievedOfTheNoise) {
                                             "\"sigma_r\": 0.01",
                                             "\"frontend_poses\": {",
                                             "\"steps\": 0",
-                                            "\"sigma_t\": null"};
+                                            "\"sigma_t\": null",
+                                            "\"claims\": [",
+                                            "\"stated_sigma_t\": 0.005",
+                                            "\"stated_sigma_r\": 0.01",
+                                            "\"pairs\": 3",
+                                            "\"scale\": null",
+                                            "\"factor\": 1",
+                                            "\"stated_sigma_t\": 0.02",
+                                            "\"stated_sigma_r\": 0.04",
+                                            "\"pairs\": 36",
+                                            "\"scale\": 1.5",
+                                            "\"factor\": 1.5"};
   ExpectMembersInOrder(json, members);
   // No class with detections: an empty list.
   EXPECT_NE(FormatReplaySummaryJson("log.jsonl", ReplayOptions(), {})

@@ -179,6 +179,14 @@ struct BackendOptions {
   // claimed_noise_tolerance, and while it stays above 1, it multiplies
   // every claimed sigma of the class (docs/backend.md "Real detectors", 4).
   double claimed_noise_tolerance = 1.5;
+  // With estimate_noise, the front end's stated motion noise is tested the
+  // same way by the pairs of detections whose noise is known (declared or
+  // their hypotheses' scatter): per group of steps stated alike, once the
+  // scale by which the stated sigmas must grow exceeds
+  // motion_noise_tolerance, and while it stays above 1, it multiplies the
+  // sigmas of the group's next steps (src/backend/motion_claims.h;
+  // docs/backend.md "Real detectors", 7).
+  double motion_noise_tolerance = 1.2;
   // With estimate_noise, a detection that gives no sigma is weighed with
   // max(estimate, uncalibrated_sigma) instead of hypothesis_sigma: errors
   // that persist over many frames (a bias) cannot be told from camera

@@ -154,7 +154,7 @@ struct ClassNoiseEstimate {
 // and the medians (over the last 500 such keyframes) of the sigmas per step
 // each gave: the odometry's as the log states them, the front end's poses'
 // the options' frontend_sigma_t, frontend_sigma_r. They are taken as
-// given, not estimated.
+// given unless the objects contradict them (`claims`).
 struct MotionNoiseReport {
   int odometry_steps = 0;
   std::optional<double> odometry_sigma_t;  // m
@@ -162,6 +162,19 @@ struct MotionNoiseReport {
   int frontend_steps = 0;
   std::optional<double> frontend_sigma_t;  // m
   std::optional<double> frontend_sigma_r;  // rad
+  // With estimate_noise, the steps' statements tested by the objects
+  // (docs/backend.md "Real detectors", 7), per group of steps the front end
+  // stated alike: those sigmas, the pairs of detections that tested them,
+  // the scale they give (once there are noise_min_samples) and the factor
+  // the group's sigmas were last multiplied by (1: the statement holds).
+  struct Group {
+    double stated_sigma_t = 0.0;  // m
+    double stated_sigma_r = 0.0;  // rad
+    int pairs = 0;
+    std::optional<double> scale;
+    double factor = 1.0;
+  };
+  std::vector<Group> claims;
 };
 
 }  // namespace symba

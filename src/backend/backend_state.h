@@ -57,12 +57,11 @@ struct KeyframeState {
   double motion_variance_t = 0.0;
   double motion_variance_r = 0.0;
   // The sigmas the front end stated for that step (m, rad; 0 without a
-  // motion factor) and the factor the objects found they must be
-  // multiplied by (motion_claims.h): motion_variance_* is their product's
-  // square.
+  // motion factor); motion_variance_* is their square times the square of
+  // the factor the objects found they must be multiplied by
+  // (motion_claims.h), 1 unless they contradict the statement.
   double stated_motion_sigma_t = 0.0;
   double stated_motion_sigma_r = 0.0;
-  double motion_scale = 1.0;
   // The keyframe (index) its camera motion factor relates it to: the
   // previous one (odometry), or the last the front end posed (-1: none).
   int motion_from = -1;

@@ -6,12 +6,15 @@
 
 namespace symba::internal {
 
-const ClaimedDetection* ClaimPairs::Nearest(
-    const ClaimedDetection& detection) const {
+const ClaimedDetection* ClaimPairs::Nearest(const ClaimedDetection& detection,
+                                            bool claimed) const {
   const ClaimedDetection* nearest = nullptr;
   double best = max_distance_;
   for (const ClaimedDetection& other : previous_) {
     if (other.class_name != detection.class_name) continue;
+    if (claimed ? !other.sigma_t.has_value() : !(other.variance_t > 0.0)) {
+      continue;
+    }
     const double d = (other.p_w - detection.p_w).norm();
     if (d <= best) {
       best = d;
@@ -36,18 +39,22 @@ void ClaimPairs::Add(int k,
   if (previous_keyframe_ != k - 1 || !step) return;
   const double step_variance_t = step->t;
   const double step_variance_r = step->r;
-  const ClaimedDetection* a = Nearest(detection);
+  const double distance_squared = detection.distance * detection.distance;
+  if (motion != nullptr && detection.variance_t > 0.0) {
+    const ClaimedDetection* m = Nearest(detection, /*claimed=*/false);
+    if (m != nullptr) {
+      motion->Add(step->stated_t,
+                  step->stated_r,
+                  (detection.p_w - m->p_w).squaredNorm(),
+                  m->variance_t + detection.variance_t,
+                  step->stated_t * step->stated_t +
+                      distance_squared * step->stated_r * step->stated_r);
+    }
+  }
+  if (!detection.sigma_t) return;
+  const ClaimedDetection* a = Nearest(detection, /*claimed=*/true);
   if (a == nullptr) return;
   using Component = DetectionNoiseEstimator::Component;
-  const double distance_squared = detection.distance * detection.distance;
-  if (motion != nullptr && a->variance_t > 0.0 && detection.variance_t > 0.0) {
-    motion->Add(step->stated_t,
-                step->stated_r,
-                (detection.p_w - a->p_w).squaredNorm(),
-                a->variance_t + detection.variance_t,
-                step->stated_t * step->stated_t +
-                    distance_squared * step->stated_r * step->stated_r);
-  }
   if (a->sigma_t && detection.sigma_t) {
     noise->AddClaimPair(
         detection.class_name,

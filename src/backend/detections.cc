@@ -203,7 +203,10 @@ void Backend::Impl::SampleClaim(
         *claimed.sigma_t * ClaimFactorT(detection.class_name);
     claimed.variance_t = sigma_t * sigma_t;
   } else if (scatter) {
-    claimed.variance_t = scatter->sigma_t * scatter->sigma_t;
+    // Held to the class's frame-to-frame noise, as its edge is.
+    const double sigma_t =
+        GateSigmaT(detection.class_name, scatter).value_or(scatter->sigma_t);
+    claimed.variance_t = sigma_t * sigma_t;
   }
   claimed.distance = t_co.norm();
   std::optional<internal::StepVariance> step;

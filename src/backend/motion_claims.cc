@@ -1,6 +1,7 @@
 #include "backend/motion_claims.h"
 
 #include <cmath>
+#include <limits>
 
 namespace symba::internal {
 
@@ -19,16 +20,22 @@ void MotionClaims::Add(double stated_t,
   if (!(stated_t > 0.0) || !(stated_r > 0.0) || !(stated_variance > 0.0)) {
     return;
   }
-  Group& group =
-      groups_.try_emplace(KeyOf(stated_t, stated_r), window_).first->second;
-  group.stated_t = stated_t;
-  group.stated_r = stated_r;
+  const auto [it, inserted] =
+      groups_.try_emplace(KeyOf(stated_t, stated_r), window_);
+  Group& group = it->second;
+  if (inserted) {  // the group's sigmas as its first step stated them
+    group.stated_t = stated_t;
+    group.stated_r = stated_r;
+  }
   // ClaimSamples' g_i with the roles swapped: the step's statement is what
-  // is tested, the detections' noise what is subtracted.
-  group.samples.Add(
-      change_squared,
-      stated_variance,
-      detection_tolerance_ * detection_tolerance_ * detection_variance);
+  // is tested, the detections' noise (with the benefit of the doubt) what
+  // is subtracted.
+  const double detections =
+      detection_tolerance_ * detection_tolerance_ * detection_variance;
+  group.samples.Add(change_squared, stated_variance, detections);
+  group.step_share.Add(detections > 0.0
+                           ? stated_variance / detections
+                           : std::numeric_limits<double>::infinity());
 }
 
 double MotionClaims::Factor(double stated_t, double stated_r) {
@@ -49,7 +56,7 @@ double MotionClaims::Factor(double stated_t, double stated_r) {
 bool MotionClaims::DetectionsVouchedFor(const Key& key) const {
   for (const auto& [other_key, other] : groups_) {
     if (other_key != key && other.samples.size() >= min_samples_ &&
-        other.samples.Scale() <= 1.0) {
+        other.samples.Scale() <= 1.0 && other.step_share.Median() <= 1.0) {
       return true;
     }
   }

@@ -16,17 +16,26 @@
 // small against the detections' (a front end with features), any misfit of
 // the detector's noise, outliers included, would otherwise be put on the
 // step, magnified by sqrt(c / s^2).
-// Steps are grouped by the sigmas the front end stated for them (a front end
-// that knows when it has features says so), each group with its own g. A
-// group's factor is g once g exceeds `tolerance`, and from then on while g
-// exceeds 1; else 1: a front end is only ever found to understate its noise
-// (what the objects cannot see, a front end better than it says, is left
-// to its word). And only while another group's pairs vouch for the
-// detections (their g at most 1: the same detector's changes explained by
-// its noise and those steps as stated): with steps stated alike
-// throughout, a change beyond the detections' noise and the step's cannot
-// be told from a detector that claims too little, which its own claims
-// test (detection_noise.h) scales; the front end is then taken at its word.
+// Steps are grouped by the sigmas the front end stated for them, rounded to
+// quarter octaves (a front end that knows when it has features says so),
+// each group with its own g. A group's factor is g once g exceeds
+// `tolerance`, and from then on while g exceeds 1; else 1: a front end is
+// only ever found to understate its noise (what the objects cannot see, a
+// front end better than it says, is left to its word). And only while
+// another group vouches for the detections: its g at most 1 (the same
+// detector's changes explained by its noise and those steps as stated)
+// with its steps stated no wider than the detections' noise (the median of
+// s^2 / (T^2 c) at most 1; a group of loosely stated steps would explain
+// any detector). Without such a group the factor falls back to 1 and must
+// pass `tolerance` again: with steps stated alike throughout, a change
+// beyond the detections' noise and the step's cannot be told from a
+// detector that claims too little, which its own claims test
+// (detection_noise.h) scales; the front end is then taken at its word.
+// The two tests share the pairs and each subtracts the other's current
+// belief: the claims test the applied step variance, this one the claims
+// times their class's factor (T^2 on top); whichever passes its tolerance
+// first takes the excess. A claimed_noise_tolerance large enough to believe
+// every claim therefore also leaves every step as stated.
 #ifndef SYMBA_SRC_BACKEND_MOTION_CLAIMS_H_
 #define SYMBA_SRC_BACKEND_MOTION_CLAIMS_H_
 
@@ -70,13 +79,19 @@ class MotionClaims {
   using Key = std::pair<int, int>;  // quarter octaves of sigma_t, sigma_r
   static Key KeyOf(double stated_t, double stated_r);
   // Another group's pairs (min_samples of them) are explained by the
-  // detections' noise and their steps as stated (scale at most 1).
+  // detections' noise and their steps as stated (scale at most 1), and
+  // its steps are stated no wider than the detections' noise (median of
+  // s^2 / (T^2 c) at most 1), so that a detector claiming too little would
+  // have shown there.
   bool DetectionsVouchedFor(const Key& key) const;
   struct Group {
-    explicit Group(int window) : samples(window) {}
+    explicit Group(int window) : samples(window), step_share(window) {}
     double stated_t = 0.0;
     double stated_r = 0.0;
     ClaimSamples samples;
+    // s^2 / (T^2 c) of its pairs: at most 1 (median), a detector that
+    // claims too little would show in this group's g.
+    RobustScale step_share;
     double factor = 1.0;  // applied
   };
 

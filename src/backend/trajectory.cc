@@ -133,7 +133,6 @@ void Trajectory::AddCameraFactors(int k,
   if (scale != 1.0) sqrt_info /= scale;
   kf.stated_motion_sigma_t = stated_t;
   kf.stated_motion_sigma_r = stated_r;
-  kf.motion_scale = scale;
   StepSigmas& sigmas =
       other == k - 1 && input.odometry ? odometry_sigmas_ : frontend_sigmas_;
   ++sigmas.steps;

@@ -48,7 +48,8 @@ class Trajectory {
   // observations; returns its index. With `claims`, the motion factor's
   // stated sigmas are multiplied by their group's factor.
   int Add(const KeyframeInput& input, MotionClaims* claims);
-  // The noise the motion factors were built with (MotionNoiseReport).
+  // The noise stated for the motion factors (MotionNoiseReport; the
+  // backend adds the claims).
   MotionNoiseReport MotionNoise() const;
 
  private:

@@ -78,7 +78,6 @@ constexpr FlagAlias kFlagAliases[] = {
     {"gate_sigmas", "--gate-sigmas"},
     {"estimate_noise", "--estimate-noise"},
     {"claimed_noise_tolerance", "--claimed-noise-tolerance"},
-    {"motion_noise_tolerance", "--motion-noise-tolerance"},
     {"uncalibrated_sigma_t", "--uncalibrated-sigma-t"},
     {"uncalibrated_sigma_r", "--uncalibrated-sigma-r"},
     {"min_support", "--min-support"},

@@ -59,7 +59,7 @@ double RmseFrom(const SimulatedSequence& sequence,
 // The featureless steps' factor (stated 0.04 rad).
 double FeaturelessFactor(const MotionNoiseReport& motion) {
   for (const MotionNoiseReport::Group& group : motion.claims) {
-    if (group.stated_sigma_r == 0.04) return group.factor;
+    if (std::abs(group.stated_sigma_r - 0.04) < 1e-9) return group.factor;
   }
   return 0.0;
 }
@@ -85,7 +85,7 @@ TEST(BackendMotionNoise,
   const ReplayedRun tested = Replay(sequence, BackendOptions());
   EXPECT_GT(FeaturelessFactor(tested.motion), 1.2);
   for (const MotionNoiseReport::Group& group : tested.motion.claims) {
-    if (group.stated_sigma_r != 0.04) {
+    if (std::abs(group.stated_sigma_r - 0.04) >= 1e-9) {
       EXPECT_EQ(group.factor, 1.0);
     }
   }

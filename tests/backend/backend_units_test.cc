@@ -815,11 +815,15 @@ TEST(WindowProblem, HoldsExactlyTheActiveFactorsAndTheirBlocks) {
 TEST(MotionClaims, AGroupsFactorIsTheMedianOnceBeyondTheTolerance) {
   const double chi2 = kChi3Median * kChi3Median;
   const double s2 = 0.01;  // stated variance at the object, m^2
-  // Pairs at g for the step stated as (s_t, s_r).
+  // Pairs at g for the step stated as (s_t, s_r), the detections'
+  // variance c with T^2 c = 2 s^2 (steps stated tighter than the
+  // detections: s^2 / (T^2 c) = 0.5, a group that can vouch).
+  const double c = 2.0 * s2 / 2.25;
   const auto add =
       [&](MotionClaims* claims, double s_t, double s_r, double g, int n) {
-        for (int i = 0; i < n; ++i)
-          claims->Add(s_t, s_r, chi2 * g * g * s2, 0.0, s2);
+        for (int i = 0; i < n; ++i) {
+          claims->Add(s_t, s_r, chi2 * (g * g + 2.0) * s2, c, s2);
+        }
       };
   MotionClaims claims(/*window=*/10, /*min_samples=*/3, 1.2, 1.5);
   // Unknown groups and groups below min_samples: 1.
@@ -841,6 +845,23 @@ TEST(MotionClaims, AGroupsFactorIsTheMedianOnceBeyondTheTolerance) {
   // The vouching group's pairs turn (g = 1.5 > 1): nobody vouches now.
   add(&claims, 0.01, 0.005, 1.5, 10);
   EXPECT_EQ(claims.Factor(0.02, 0.04), 1.0);
+  // Steps stated loosely (s^2 / (T^2 c) = 4 > 1) explain any detector:
+  // their g of 0 vouches for nothing.
+  MotionClaims loose(10, 3, 1.2, 1.5);
+  add(&loose, 0.02, 0.04, 2.0, 3);
+  for (int i = 0; i < 3; ++i) loose.Add(0.5, 0.5, 0.0, s2 / 9.0, s2);
+  EXPECT_EQ(loose.Factor(0.02, 0.04), 1.0);
+  // A vouching group again: the factor must pass the tolerance afresh
+  // (1.1 does not; 2 does).
+  MotionClaims again(3, 3, 1.2, 1.5);
+  add(&again, 0.02, 0.04, 2.0, 3);
+  add(&again, 0.01, 0.005, 0.5, 3);
+  EXPECT_NEAR(again.Factor(0.02, 0.04), 2.0, 1e-12);
+  add(&again, 0.01, 0.005, 1.5, 3);
+  EXPECT_EQ(again.Factor(0.02, 0.04), 1.0);
+  add(&again, 0.01, 0.005, 0.5, 3);
+  add(&again, 0.02, 0.04, 1.1, 3);
+  EXPECT_EQ(again.Factor(0.02, 0.04), 1.0);
 
   // The detections' variance, times T^2 = 2.25, is taken off first:
   // |d|^2 / chi2 = 0.03, c = 0.004: g = sqrt((0.03 - 0.009) / 0.01).
@@ -902,6 +923,47 @@ TEST(ClaimPairs, PairsWithKnownNoiseTestTheFrontEndsStep) {
   unknown.p_w = Eigen::Vector3d(2.0, 0.0, 0.0);
   pairs.Add(2, unknown, step, &noise, &motion);
   EXPECT_EQ(motion.Report().front().pairs, 1);
+}
+
+// In a class with declared and undeclared detections each test pairs
+// with its own kind: the claim with the nearest declared detection, the
+// step with the nearest whose noise is known; a previous detection whose
+// noise is not known tests nothing.
+TEST(ClaimPairs, EachTestPairsWithItsOwnKind) {
+  const double chi2 = kChi3Median * kChi3Median;
+  DetectionNoiseEstimator noise(100, 1);
+  MotionClaims motion(100, 1, 1.2, 1.0);
+  ClaimPairs pairs(0.5, 0.5);
+  ClaimedDetection scatter;  // 0.1 m from the later one, noise known
+  scatter.class_name = "box";
+  scatter.p_w = Eigen::Vector3d(1.1, 0.0, 0.0);
+  scatter.distance = 1.0;
+  scatter.variance_t = 1e-4;
+  ClaimedDetection declared = scatter;  // 0.2 m from it, declared
+  declared.p_w = Eigen::Vector3d(1.2, 0.0, 0.0);
+  declared.sigma_t = 0.01;
+  declared.sigma_r = 0.02;
+  ClaimedDetection unknown = scatter;  // nearest of all, noise unknown
+  unknown.p_w = Eigen::Vector3d(1.01, 0.0, 0.0);
+  unknown.variance_t = 0.0;
+  pairs.Add(0, scatter, std::nullopt, &noise, &motion);
+  pairs.Add(0, declared, std::nullopt, &noise, &motion);
+  pairs.Add(0, unknown, std::nullopt, &noise, &motion);
+  ClaimedDetection later = declared;
+  later.p_w = Eigen::Vector3d(1.0, 0.0, 0.0);
+  const StepVariance step{1e-4, 1e-4, 0.01, 0.01};
+  pairs.Add(1, later, step, &noise, &motion);
+  const ClassNoiseEstimate::Claims claims = noise.ClaimsReport("box");
+  ASSERT_EQ(claims.translation_samples, 1);
+  // |d| = 0.2 m to the declared one: f^2 c + s = 0.04 / chi2.
+  EXPECT_NEAR(*claims.scale_t,
+              std::sqrt((0.04 / chi2 - 2e-4) / (2.0 * 0.01 * 0.01)),
+              1e-9);
+  ASSERT_EQ(motion.Report().size(), 1u);
+  // |d| = 0.1 m to the scatter one: g^2 s^2 = 0.01 / chi2 - c.
+  EXPECT_NEAR(*motion.Report().front().scale,
+              std::sqrt((0.01 / chi2 - 2e-4) / 2e-4),
+              1e-9);
 }
 
 }  // namespace

@@ -178,5 +178,48 @@ TEST_F(TrajectoryTest, PointsAreCreatedFromADepth) {
   EXPECT_EQ(statistics_.points, 1);
 }
 
+// With the front end's statements tested (motion_claims.h), a step of a
+// group the objects found understated is built with its stated sigmas
+// times the group's factor: its variances and its factor's whitening; the
+// report keeps the sigmas as stated.
+TEST_F(TrajectoryTest, AStepOfAScaledGroupIsWeighedWithTheFactor) {
+  Build();
+  MotionClaims claims(10, 1, 1.2, 1.0);
+  const double chi2 = kChi3Median * kChi3Median;
+  claims.Add(0.005, 0.01, 0.0, 1e-3, 1e-4);  // vouches (g 0, s^2 < c)
+  claims.Add(0.01, 0.02, chi2 * (4.0 * 1e-4 + 1e-3), 1e-3, 1e-4);  // g = 2
+  KeyframeInput first;
+  first.id = 1;
+  first.T_wc = PoseAt(0, 0, 0);
+  trajectory().Add(first, &claims);
+  KeyframeInput next;
+  next.id = 2;
+  next.odometry = Odometry{PoseAt(0, 0, 1), 0.01, 0.02};
+  trajectory().Add(next, &claims);
+  const KeyframeState& kf = *trajectory().keyframes()[1];
+  EXPECT_DOUBLE_EQ(kf.stated_motion_sigma_t, 0.01);
+  EXPECT_DOUBLE_EQ(kf.stated_motion_sigma_r, 0.02);
+  EXPECT_NEAR(kf.motion_variance_t, 0.02 * 0.02, 1e-15);
+  EXPECT_NEAR(kf.motion_variance_r, 0.04 * 0.04, 1e-15);
+  EXPECT_NEAR(kf.summed_motion_variance_t, 0.02 * 0.02, 1e-15);
+  EXPECT_DOUBLE_EQ(*trajectory().MotionNoise().odometry_sigma_t, 0.01);
+  // The factor's residual for the keyframe 0.1 m off along x: 0.1 / 0.02.
+  const FactorRecord& factor = LastFactor(1);
+  double t_moved[3] = {kf.t[0] + 0.1, kf.t[1], kf.t[2]};
+  const double* parameters[4] = {
+      factor.blocks[0], factor.blocks[1], factor.blocks[2], t_moved};
+  double residual[6];
+  ASSERT_TRUE(factor.cost->Evaluate(parameters, residual, nullptr));
+  const Vector6d whitened = Eigen::Map<const Vector6d>(residual);
+  EXPECT_NEAR(whitened.norm(), 5.0, 1e-9);
+  // A step stated otherwise (no samples) is taken as stated.
+  KeyframeInput other;
+  other.id = 3;
+  other.odometry = Odometry{PoseAt(0, 0, 1), 0.05, 0.1};
+  trajectory().Add(other, &claims);
+  EXPECT_NEAR(
+      trajectory().keyframes()[2]->motion_variance_t, 0.05 * 0.05, 1e-15);
+}
+
 }  // namespace
 }  // namespace symba::internal

@@ -146,7 +146,9 @@ class Backend {
   // estimated so far and what the class's detections without a sigma are
   // weighed with (empty without estimate_noise).
   std::vector<ClassNoiseEstimate> Noise() const;
-  // The noise the camera's motion factors were weighed with.
+  // The noise the front end stated for the camera's motion factors, and
+  // the objects' test of it: the factor each group of steps stated alike
+  // was weighed with.
   MotionNoiseReport MotionNoise() const;
   // Every confirmed map object's covariance at the current estimate
   // (docs/backend.md "Covariances"): from the last solve, or for an object

@@ -152,9 +152,10 @@ struct ClassNoiseEstimate {
 // (docs/backend.md "Real detectors"): how many keyframes a motion factor
 // ties to the one before by the odometry, and by the front end's poses,
 // and the medians (over the last 500 such keyframes) of the sigmas per step
-// each gave: the odometry's as the log states them, the front end's poses'
-// the options' frontend_sigma_t, frontend_sigma_r. They are taken as
-// given unless the objects contradict them (`claims`).
+// each stated: the odometry's as the log states them, the front end's
+// poses' the options' frontend_sigma_t, frontend_sigma_r. The factors are
+// built with those times the factor of their group (`claims`), 1 unless the
+// objects contradict the statement.
 struct MotionNoiseReport {
   int odometry_steps = 0;
   std::optional<double> odometry_sigma_t;  // m

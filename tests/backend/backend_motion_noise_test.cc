@@ -14,6 +14,7 @@
 #include "symba/backend/backend.h"
 #include "symba/geometry/pi.h"
 #include "symba/simulation/simulator.h"
+#include "test_support/backend_replay.h"
 
 namespace symba {
 namespace {
@@ -45,15 +46,8 @@ ReplayedRun Replay(const SimulatedSequence& sequence,
 double RmseFrom(const SimulatedSequence& sequence,
                 const std::vector<KeyframeEstimate>& estimates,
                 size_t first) {
-  double sum = 0.0;
-  size_t n = 0;
-  for (const KeyframeEstimate& e : estimates) {
-    const size_t k = static_cast<size_t>(e.id);
-    if (k < first) continue;
-    sum += (e.T_wc.t - sequence.T_wc_true[k].t).squaredNorm();
-    ++n;
-  }
-  return n > 0 ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
+  return testing::KeyframePositionRmseFrom(
+      estimates, sequence.T_wc_true, static_cast<int64_t>(first));
 }
 
 // The featureless steps' factor (stated 0.04 rad).

@@ -15,6 +15,7 @@
 
 #include "symba/backend/backend.h"
 #include "symba/simulation/simulator.h"
+#include "test_support/backend_replay.h"
 
 namespace symba {
 namespace {
@@ -41,15 +42,8 @@ void RunKeyframes(const std::vector<KeyframeInput>& keyframes,
 double SecondHalfRmse(const SimulatedSequence& sequence,
                       const std::vector<KeyframeEstimate>& estimates,
                       size_t first) {
-  double sum = 0.0;
-  size_t n = 0;
-  for (const KeyframeEstimate& e : estimates) {
-    const size_t k = static_cast<size_t>(e.id);
-    if (k < first) continue;
-    sum += (e.T_wc.t - sequence.T_wc_true[k].t).squaredNorm();
-    ++n;
-  }
-  return std::sqrt(sum / static_cast<double>(n));
+  return testing::KeyframePositionRmseFrom(
+      estimates, sequence.T_wc_true, static_cast<int64_t>(first));
 }
 
 // The simulated room (seed 3) split in two halves; the first half mapped.

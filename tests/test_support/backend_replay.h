@@ -5,6 +5,7 @@
 #define SYMBA_TESTS_TEST_SUPPORT_BACKEND_REPLAY_H_
 
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -45,6 +46,23 @@ inline double KeyframePositionRmse(const Backend& backend,
     sum += (estimates[k].T_wc.t - truth[k].t).squaredNorm();
   }
   return std::sqrt(sum / static_cast<double>(estimates.size()));
+}
+
+// The same over the estimates whose keyframe id is at least `first`, each
+// against truth[id] (ids that index the truth, as the simulator's do); 0
+// without such estimates.
+inline double KeyframePositionRmseFrom(
+    const std::vector<KeyframeEstimate>& estimates,
+    const std::vector<Rigid3d>& truth,
+    int64_t first) {
+  double sum = 0.0;
+  size_t n = 0;
+  for (const KeyframeEstimate& e : estimates) {
+    if (e.id < first) continue;
+    sum += (e.T_wc.t - truth[static_cast<size_t>(e.id)].t).squaredNorm();
+    ++n;
+  }
+  return n > 0 ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
 }
 
 }  // namespace symba::testing

@@ -100,6 +100,15 @@ double IncrementCorrelation(double sigma_level, double sigma_increment);
 // increments (see above).
 double CorrelatedSigma(double sigma_level, double sigma_increment);
 
+// The factor a claim (a detector's sigmas, a front end's step) is weighed
+// with, given the scale its samples give and the factor applied before:
+// the scale once it exceeds `tolerance`, and from then on while it exceeds
+// 1 (a scale that wobbles about the tolerance must not switch the factor on
+// and off); else 1.
+inline double HeldFactor(double scale, double before, double tolerance) {
+  return scale > (before > 1.0 ? 1.0 : tolerance) ? scale : 1.0;
+}
+
 struct ClassNoise {
   std::optional<double> sigma_t;  // m
   std::optional<double> sigma_r;  // rad

@@ -48,8 +48,7 @@ double MotionClaims::Factor(double stated_t, double stated_r) {
     group.factor = 1.0;
     return 1.0;
   }
-  const double scale = group.samples.Scale();
-  group.factor = scale > (group.factor > 1.0 ? 1.0 : tolerance_) ? scale : 1.0;
+  group.factor = HeldFactor(group.samples.Scale(), group.factor, tolerance_);
   return group.factor;
 }
 

@@ -154,16 +154,12 @@ bool ObjectEdges::ApplyNoise(const std::string& class_name,
                                      ratio,
                                      &applied.white_sigma_t,
                                      &applied.white_sigma_r);
-  // A claim's factor: the claim scale once it exceeds the tolerance, and
-  // from then on while it exceeds 1 (a scale that wobbles about the
-  // tolerance must not switch the factor on and off); else 1. An applied
-  // factor of none is 1.
+  // A claim's factor (HeldFactor); an applied factor of none is 1.
   const double tolerance = options_.claimed_noise_tolerance;
   const auto factor = [tolerance](const std::optional<double>& scale,
                                   const std::optional<double>& applied) {
     const double before = applied.value_or(1.0);
-    if (!scale) return before;
-    return *scale > (before > 1.0 ? 1.0 : tolerance) ? *scale : 1.0;
+    return scale ? HeldFactor(*scale, before, tolerance) : before;
   };
   const std::optional<double> factor_t =
       factor(estimate.claim_scale_t, applied.claim_scale_t);

@@ -64,6 +64,14 @@ TEST(CorrelatedSigma, InflatesCorrelatedErrorsByTheirEffectiveCount) {
   EXPECT_DOUBLE_EQ(CorrelatedSigma(0.1, 0.0), 0.1 * std::sqrt(99.0));
 }
 
+// A factor starts at the tolerance and holds while above 1.
+TEST(HeldFactor, PassesTheToleranceThenHoldsAboveOne) {
+  EXPECT_EQ(HeldFactor(1.4, 1.0, 1.5), 1.0);  // below the tolerance
+  EXPECT_EQ(HeldFactor(1.6, 1.0, 1.5), 1.6);
+  EXPECT_EQ(HeldFactor(1.1, 1.6, 1.5), 1.1);  // held while above 1
+  EXPECT_EQ(HeldFactor(0.9, 1.6, 1.5), 1.0);
+}
+
 // The claim scale f makes the median of |d| / sqrt(f^2 c + s) the chi
 // median: samples built so that f = 2 holds exactly give 2; samples the
 // steps alone explain give 0.

@@ -600,6 +600,19 @@ void BindBackend(py::module_& m) {
           "Every detection's assignment, in input order.")
       .def("statistics",
            [](const J& self) { return self.backend().Statistics(); })
+      .def(
+          "noise",
+          [](const J& self) { return self.backend().Noise(); },
+          "Per class with detections, by name: the detection noise estimated "
+          "so far and what the class's detections are weighed with "
+          "(ClassNoise; docs/backend.md, Real detectors). Empty without "
+          "options.estimate_noise.")
+      .def(
+          "motion_noise",
+          [](const J& self) { return self.backend().MotionNoise(); },
+          "The noise the front end stated for the camera's motion and the "
+          "objects' test of it (MotionNoise; docs/backend.md, Real "
+          "detectors, 7).")
       .def_property_readonly(
           "options",
           [](const J& self) { return self.backend().options(); },

@@ -12,6 +12,7 @@ namespace py = pybind11;
 void BindOptions(py::module_& m);     // options.cc
 void BindInputs(py::module_& m);      // inputs.cc
 void BindEstimates(py::module_& m);   // backend.cc
+void BindNoise(py::module_& m);       // noise.cc
 void BindBackend(py::module_& m);     // backend.cc
 void BindCategorize(py::module_& m);  // categorize.cc
 void BindIo(py::module_& m);          // io.cc: logs, replay, import, simulate

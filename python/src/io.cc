@@ -59,6 +59,8 @@ struct PyReplayResult {
   double seconds = 0.0;
   std::optional<RelocalizationReport> relocalization;
   std::vector<LoopClosureReport> loop_closures;
+  std::vector<ClassNoiseEstimate> noise;
+  MotionNoiseReport motion;
 };
 
 // Binds `f(lead..., const TumImportOptions&)` as the Python function that
@@ -298,6 +300,14 @@ void BindReplay(py::module_& m) {
       .def_readonly("loop_closures",
                     &PyReplayResult::loop_closures,
                     "Every loop closure of the log (LoopClosureReport).")
+      .def_readonly("noise",
+                    &PyReplayResult::noise,
+                    "Backend.noise() at the end (ClassNoise per class); "
+                    "summary.json's \"noise\".")
+      .def_readonly("motion",
+                    &PyReplayResult::motion,
+                    "Backend.motion_noise() at the end (MotionNoise); "
+                    "summary.json's \"motion\".")
       .def("__repr__", [](const PyReplayResult& r) {
         return "ReplayResult(" +
                symba::CountPhrase(
@@ -358,7 +368,9 @@ void BindReplay(py::module_& m) {
                               result.last_solve,
                               result.seconds,
                               result.relocalization,
-                              std::move(result.loop_closures)};
+                              std::move(result.loop_closures),
+                              std::move(result.noise),
+                              result.motion};
       },
       py::arg("log_path"),
       py::arg("options") = py::none(),

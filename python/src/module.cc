@@ -13,6 +13,7 @@ PYBIND11_MODULE(_symba, m) {
   BindOptions(m);
   BindInputs(m);
   BindEstimates(m);
+  BindNoise(m);
   BindBackend(m);
   BindCategorize(m);
   BindIo(m);

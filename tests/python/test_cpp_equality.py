@@ -345,3 +345,77 @@ def test_relocalization_through_python(cli, tmp_path):
     assert symba.replay(second).relocalization is None
     with pytest.raises(ValueError, match="needs map_in"):
         symba.replay(second, relocalize=True)
+
+
+def noise_as_summary(noise):
+    """Backend.noise() / ReplayResult.noise in summary.json's layout."""
+    def samples(s):
+        return {"levels": s.levels, "increments": s.increments,
+                "sigma_level": s.sigma_level,
+                "sigma_increment": s.sigma_increment,
+                "correlation": s.correlation, "inflation": s.inflation}
+    return [{"class": c.class_name, "sigma_t": c.sigma_t,
+             "sigma_r": c.sigma_r, "weight_sigma_t": c.weight_sigma_t,
+             "weight_sigma_r": c.weight_sigma_r,
+             "translation": samples(c.translation),
+             "rotation": samples(c.rotation),
+             "hypothesis_scatter": {"detections": c.scatter.detections,
+                                    "sigma_t": c.scatter.sigma_t,
+                                    "sigma_r": c.scatter.sigma_r},
+             "claims": {"translation_samples": c.claims.translation_samples,
+                        "rotation_samples": c.claims.rotation_samples,
+                        "scale_t": c.claims.scale_t,
+                        "scale_r": c.claims.scale_r,
+                        "factor_t": c.claims.factor_t,
+                        "factor_r": c.claims.factor_r}}
+            for c in noise]
+
+
+def motion_as_summary(motion):
+    return {"odometry": {"steps": motion.odometry_steps,
+                         "sigma_t": motion.odometry_sigma_t,
+                         "sigma_r": motion.odometry_sigma_r},
+            "frontend_poses": {"steps": motion.frontend_steps,
+                               "sigma_t": motion.frontend_sigma_t,
+                               "sigma_r": motion.frontend_sigma_r},
+            "claims": [{"stated_sigma_t": g.stated_sigma_t,
+                        "stated_sigma_r": g.stated_sigma_r,
+                        "pairs": g.pairs, "scale": g.scale,
+                        "factor": g.factor} for g in motion.claims]}
+
+
+def test_noise_matches_the_summary(cli, tmp_path):
+    # A detector that declares no noise: the backend weighs the table by
+    # its hypotheses' scatter and estimates the class's noise
+    # (docs/backend.md, Real detectors); summary.json writes full precision.
+    cli("simulate", "--scene", "disc", "--seed", "3", "--keyframes", "40",
+        "--declare-noise", "false", "--out", tmp_path / "sim", "--quiet")
+    log = tmp_path / "sim" / "log.jsonl"
+    cli("replay", log, "--out", tmp_path / "out", "--quiet")
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+
+    result = symba.replay(str(log))
+    assert noise_as_summary(result.noise) == summary["noise"]
+    assert motion_as_summary(result.motion) == summary["motion"]
+    table = result.noise[0]
+    assert table.class_name == "table"
+    assert table.sigma_t is not None and table.sigma_t > 0
+    assert table.scatter.detections > 0
+    assert table.claims.scale_t is None  # nothing declared, nothing tested
+    assert result.motion.odometry_steps == 39
+    assert result.motion.odometry_sigma_t == 0.01
+    assert len(result.motion.claims) == 2  # rich and featureless steps
+
+    header, keyframes = symba.read_log(str(log))
+    backend = symba.Backend(intrinsics=header.camera,
+                            class_priors=header.classes)
+    assert backend.noise() == []  # no detection yet
+    assert backend.motion_noise().odometry_steps == 0
+    for keyframe in keyframes:
+        backend.add_keyframe(keyframe)
+        backend.optimize_window()
+    assert noise_as_summary(backend.noise()) == summary["noise"]
+    assert motion_as_summary(backend.motion_noise()) == summary["motion"]
+    # Without estimate_noise there is nothing to report per class.
+    plain = symba.replay(str(log), symba.BackendOptions(estimate_noise=False))
+    assert plain.noise == []

@@ -99,6 +99,11 @@ void BindClassNoise(py::module_& m) {
       .def_readonly("rotation", &C::rotation, "NoiseSamples (rad).")
       .def_readonly("scatter", &C::scatter, "HypothesisScatter.")
       .def_readonly("claims", &C::claims, "NoiseClaims.")
+      .def_readonly("track_ratio",
+                    &C::track_ratio,
+                    "The median step ratio of the class's confirmed objects "
+                    "that a tentative object's track is compared with "
+                    "(options.track_tolerance), or None.")
       .def("__repr__", [](const py::handle& self) {
         return AttributeRepr(self,
                              "ClassNoise",

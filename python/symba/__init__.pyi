@@ -76,6 +76,7 @@ class BackendOptions:
     reanchor_angle: float
     confirm_keyframes: int
     tentative_timeout: int
+    track_tolerance: float
     gate_sigmas: float
     estimate_noise: bool
     noise_window: int
@@ -424,6 +425,8 @@ class ClassNoise:
     def scatter(self) -> HypothesisScatter: ...
     @property
     def claims(self) -> NoiseClaims: ...
+    @property
+    def track_ratio(self) -> Optional[float]: ...
 
 class MotionClaimGroup:
     @property

@@ -202,6 +202,13 @@ void AppendRealDetectorOptions(OptionTable<BackendOptions>* table) {
                        AtLeast(1),
                        "keyframes without a detection after which a "
                        "tentative object is dropped"),
+          DoubleOption<O>("track_tolerance",
+                          &O::track_tolerance,
+                          "",
+                          NonNegative(),
+                          "with estimate_noise: a tentative object whose "
+                          "detections changed by more than this times a "
+                          "static object's is not confirmed; 0: no test"),
           DoubleOption<O>("gate_sigmas",
                           &O::gate_sigmas,
                           "",

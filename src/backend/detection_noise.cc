@@ -152,6 +152,20 @@ std::optional<double> DetectionNoiseEstimator::ClaimScale(
   return it->second.Scale();
 }
 
+void DetectionNoiseEstimator::AddStepRatio(const std::string& class_name,
+                                           double ratio) {
+  step_ratios_.try_emplace(class_name, window_).first->second.Add(ratio);
+}
+
+std::optional<double> DetectionNoiseEstimator::StepRatioReference(
+    const std::string& class_name) const {
+  const auto it = step_ratios_.find(class_name);
+  if (it == step_ratios_.end() || it->second.size() < min_samples_) {
+    return std::nullopt;
+  }
+  return it->second.Median();
+}
+
 ClassNoiseEstimate::Claims DetectionNoiseEstimator::ClaimsReport(
     const std::string& class_name) const {
   ClassNoiseEstimate::Claims report;

@@ -155,6 +155,17 @@ class DetectionNoiseEstimator {
                     double change_squared,
                     double claimed_variance,
                     double step_variance);
+  // The class's translation sigma_I alone (TranslationReport's
+  // sigma_increment, without the rest of the report).
+  std::optional<double> TranslationIncrementSigma(
+      const std::string& class_name) const {
+    return IncrementSigma(translation_, class_name);
+  }
+  // The ratio r of one step of a confirmed object of the class
+  // (object_track.h), and the class's reference: the median r of the last
+  // `window` steps, once there are min_samples.
+  void AddStepRatio(const std::string& class_name, double ratio);
+  std::optional<double> StepRatioReference(const std::string& class_name) const;
   ClassNoiseEstimate::Scatter ScatterReport(
       const std::string& class_name) const;
   ClassNoiseEstimate::Claims ClaimsReport(const std::string& class_name) const;
@@ -193,6 +204,7 @@ class DetectionNoiseEstimator {
   std::map<std::string, ScatterScales> scatter_;
   std::map<std::string, ClaimSamples> claim_t_;
   std::map<std::string, ClaimSamples> claim_r_;
+  std::map<std::string, RobustScale> step_ratios_;
 };
 
 // The position noise (m) of an object's mean over its detections in n

@@ -73,6 +73,7 @@ class FactorGraph {
   // Out of every solve for good (replaced or dropped); its cost is freed.
   void Retire(int f) { problem_.Retire(f); }
   const FactorRecord& factor(int f) const { return problem_.factor(f); }
+  const KeyframeList& keyframes() const { return keyframes_; }
   // The first observation of `object` whose keyframe has not left the
   // window (0 under condition). O(log observations).
   int FirstLiveObservation(const ObjectState& object) const;

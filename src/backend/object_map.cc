@@ -105,12 +105,41 @@ void ObjectMap::NoteDetection(int o,
   view_depth_ = std::max(view_depth_, distance);
 }
 
+void ObjectMap::NoteTrackStep(ObjectState& object, const TrackStep& step) {
+  if (object.status == ObjectStatus::kTentative) {
+    object.track.push_back(step);
+    if (object.track.size() > kMaxTrackSteps) object.track.pop_front();
+    return;
+  }
+  const std::optional<double> sigma_increment =
+      noise_.TranslationIncrementSigma(object.class_name);
+  if (object.status == ObjectStatus::kConfirmed && sigma_increment) {
+    noise_.AddStepRatio(object.class_name,
+                        StepRatio(step, *sigma_increment, graph_->keyframes()));
+  }
+}
+
+bool ObjectMap::TrackLooksStatic(const ObjectState& object) const {
+  if (!options_.estimate_noise || options_.track_tolerance <= 0.0) {
+    return true;
+  }
+  const std::optional<double> sigma_increment =
+      noise_.TranslationIncrementSigma(object.class_name);
+  const std::optional<double> reference =
+      noise_.StepRatioReference(object.class_name);
+  if (!sigma_increment || !reference) return true;
+  return MedianStepRatio(object.track, *sigma_increment, graph_->keyframes()) <=
+         options_.track_tolerance * *reference;
+}
+
 void ObjectMap::UpdateTentative(int k) {
   size_t kept = 0;
   for (int o : tentative_) {
     ObjectState& object = *objects_[o];
-    if (object.keyframes_seen >= options_.confirm_keyframes) {
+    if (object.keyframes_seen >= options_.confirm_keyframes &&
+        TrackLooksStatic(object)) {
       object.status = ObjectStatus::kConfirmed;
+      object.track.clear();
       ++statistics_->objects;
       ++confirmations_;
     } else if (k - object.last_keyframe >= options_.tentative_timeout) {
@@ -524,6 +553,13 @@ void ObjectMap::SampleNoise(int o,
                             Kind::kIncrement,
                             (p - object.chain_last_position).norm());
     }
+  }
+  if (object.chain_last_keyframe >= 0 && object.chain_last_keyframe < k) {
+    NoteTrackStep(object,
+                  TrackStep{(p - object.chain_last_position).norm(),
+                            object.chain_last_keyframe,
+                            k,
+                            t_co.norm()});
   }
   object.chain_position_sum += p;
   ++object.chain_count;

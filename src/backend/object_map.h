@@ -20,6 +20,7 @@
 #include "backend/claim_pairs.h"
 #include "backend/detection_noise.h"
 #include "backend/factor_graph.h"
+#include "backend/object_track.h"
 #include "backend/upgrade_evidence.h"
 #include "symba/backend/backend.h"
 #include "symba/categorization/hypothesis_scatter.h"
@@ -69,8 +70,9 @@ class ObjectMap {
   // A detection of object o in keyframe k, reported as assignment a, seen at
   // t_co (its bearing and depth widen the view cone).
   void NoteDetection(int o, int k, int assignment, const Eigen::Vector3d& t_co);
-  // Confirms tentative objects with enough keyframes and drops those whose
-  // timeout passed (bounded by the tentative objects).
+  // Confirms tentative objects with enough keyframes whose track looks
+  // static (object_track.h) and drops those whose timeout passed (bounded
+  // by the tentative objects).
   void UpdateTentative(int k);
   // Counts keyframe k (camera T_wc) for every confirmed object in view and
   // drops those detected in too few of their views (min_support).
@@ -160,6 +162,14 @@ class ObjectMap {
   void Load(const MapObjectEstimate& e);
 
  private:
+  // Whether a tentative object's track looks static (object_track.h):
+  // true without estimate_noise, with track_tolerance 0, or before the
+  // class has a frame-to-frame noise and a reference ratio.
+  bool TrackLooksStatic(const ObjectState& object) const;
+  // A step between two detections of `object` (object_track.h): kept on
+  // its track while tentative, a sample of the class's reference ratio
+  // once confirmed (with a frame-to-frame noise to scale it by).
+  void NoteTrackStep(ObjectState& object, const TrackStep& step);
   void Drop(int o);
   // A new angle of discrete object o at the world rotation R_wo.
   int AddAngle(int o, const Eigen::Quaterniond& R_wo);

@@ -57,8 +57,9 @@ void WriteNoise(const std::vector<ClassNoiseEstimate>& noise,
     OptionalMember("scale_r", c.claims.scale_r, json);
     json->Member("factor_t", c.claims.factor_t)
         .Member("factor_r", c.claims.factor_r)
-        .EndObject()
         .EndObject();
+    OptionalMember("track_ratio", c.track_ratio, json);
+    json->EndObject();
   }
   json->EndArray();
 }

@@ -3,6 +3,7 @@
 // object, a discrete object's angles (matched, folded by the class prior's
 // order, or new), re-anchoring, and the detector's noise samples.
 #include "backend/object_map.h"
+#include "backend/object_track.h"
 
 #include <cmath>
 #include <map>
@@ -516,6 +517,100 @@ TEST_F(ObjectMapTest, AnAr1ErrorGetsItsInflation) {
   const ClassNoise estimate = map_->noise().Estimate("box");
   ASSERT_TRUE(estimate.sigma_t.has_value());
   EXPECT_NEAR(*estimate.sigma_t, kSigma * inflation, 0.15 * kSigma * inflation);
+}
+
+// A step's ratio r = |d| / sqrt(2 sigma_I^2 + G) (object_track.h), G the
+// stated motion variance of keyframes from + 1 .. to at the detection's
+// distance: here (5e-4 - 1e-4) m^2 + 2^2 (3e-5 - 1e-5) rad^2 = 4.8e-4 m^2.
+TEST(ObjectTrack, AStepsRatioIsItsChangeOverItsExpectedSpread) {
+  KeyframeList keyframes;
+  const double summed_t[] = {0.0, 1e-4, 2e-4, 5e-4};
+  const double summed_r[] = {0.0, 1e-5, 2e-5, 3e-5};
+  for (int k = 0; k < 4; ++k) {
+    keyframes.push_back(std::make_unique<KeyframeState>());
+    keyframes.back()->summed_motion_variance_t = summed_t[k];
+    keyframes.back()->summed_motion_variance_r = summed_r[k];
+  }
+  const double sigma_increment = 0.01;
+  const TrackStep gap{0.05, 1, 3, 2.0};
+  EXPECT_NEAR(StepRatio(gap, sigma_increment, keyframes),
+              0.05 / std::sqrt(2e-4 + 4.8e-4),
+              1e-12);
+  // A keyframe the list does not hold adds no growth.
+  const TrackStep beyond{0.02, 3, 7, 2.0};
+  EXPECT_NEAR(StepRatio(beyond, sigma_increment, keyframes),
+              0.02 / std::sqrt(2e-4),
+              1e-12);
+  const TrackStep next{0.01, 2, 3, 1.0};  // G = 3e-4 + 1e-5
+  EXPECT_NEAR(StepRatio(next, sigma_increment, keyframes),
+              0.01 / std::sqrt(2e-4 + 3.1e-4),
+              1e-12);
+  EXPECT_NEAR(MedianStepRatio({gap, beyond, next}, sigma_increment, keyframes),
+              0.02 / std::sqrt(2e-4),
+              1e-12);
+  EXPECT_EQ(MedianStepRatio({}, sigma_increment, keyframes), 0.0);
+  // No spread at all: only no change is static.
+  EXPECT_EQ(StepRatio({0.0, 3, 7, 1.0}, 0.0, keyframes), 0.0);
+  EXPECT_TRUE(std::isinf(StepRatio({0.01, 3, 7, 1.0}, 0.0, keyframes)));
+}
+
+// A confirmed box whose detections change by 1 cm from keyframe to
+// keyframe gives the class its frame-to-frame noise (sigma_I = 0.01 /
+// (1.5382 sqrt 2)) and its reference ratio (1.5382: no motion noise here).
+// Two new boxes from keyframe 8: one that changes by 1 cm as well is
+// confirmed with its third keyframe, one that jumps by 30 cm (ratio 46, 30
+// times the reference) is not, and is dropped once no detection joined it
+// for tentative_timeout keyframes. With track_tolerance 0 both are
+// confirmed.
+TEST_F(ObjectMapTest, AWanderingTentativeObjectIsNotConfirmed) {
+  for (const double tolerance : {3.0, 0.0}) {
+    SCOPED_TRACE(tolerance);
+    BackendOptions options;
+    options.confirm_keyframes = 3;
+    options.tentative_timeout = 4;
+    options.noise_min_samples = 3;
+    options.track_tolerance = tolerance;
+    statistics_ = BackendStatistics();
+    assignments_.clear();
+    Build(options);
+    auto detect = [&](int o, int k, double x) {
+      Detect(o, k);
+      map_->SampleNoise(
+          o, k, At(x, 0, 0), Eigen::Vector3d::Zero(), std::nullopt);
+    };
+    const int box =
+        map_->Create("box", SymmetryType::kAsymmetric, At(0, 0, 0), 0);
+    int steady = -1;
+    int wandering = -1;
+    for (int k = 0; k <= 16; ++k) {
+      detect(box, k, 0.01 * (k % 2));
+      if (k == 8) {
+        steady = map_->Create("box", SymmetryType::kAsymmetric, At(5, 0, 0), k);
+        wandering =
+            map_->Create("box", SymmetryType::kAsymmetric, At(10, 0, 0), k);
+      }
+      if (k >= 8 && k <= 10) {
+        detect(steady, k, 5.0 + 0.01 * (k % 2));
+        detect(wandering, k, 10.0 + 0.3 * (k % 2));
+      }
+      map_->UpdateTentative(k);
+      if (k == 7) {
+        ASSERT_TRUE(map_->noise().StepRatioReference("box").has_value());
+        EXPECT_NEAR(
+            *map_->noise().StepRatioReference("box"), kChi3Median, 1e-9);
+      }
+    }
+    EXPECT_EQ(map_->objects()[steady]->status, ObjectStatus::kConfirmed);
+    EXPECT_TRUE(map_->objects()[steady]->track.empty());
+    if (tolerance > 0.0) {
+      EXPECT_EQ(map_->objects()[wandering]->status, ObjectStatus::kDropped);
+      EXPECT_EQ(statistics_.objects, 2);
+      EXPECT_EQ(statistics_.objects_dropped, 1);
+    } else {
+      EXPECT_EQ(map_->objects()[wandering]->status, ObjectStatus::kConfirmed);
+      EXPECT_EQ(statistics_.objects, 3);
+    }
+  }
 }
 
 }  // namespace

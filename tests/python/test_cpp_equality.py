@@ -367,7 +367,8 @@ def noise_as_summary(noise):
                         "scale_t": c.claims.scale_t,
                         "scale_r": c.claims.scale_r,
                         "factor_t": c.claims.factor_t,
-                        "factor_r": c.claims.factor_r}}
+                        "factor_r": c.claims.factor_r},
+             "track_ratio": c.track_ratio}
             for c in noise]
 
 

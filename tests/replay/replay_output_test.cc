@@ -208,6 +208,7 @@ TEST(ReplayOutputTest, SummaryJsonReportsWhatTheBackendBelievedOfTheNoise) {
   box.claims.rotation_samples = 0;
   box.claims.scale_t = 4.5;
   box.claims.factor_t = 4.5;
+  box.track_ratio = 0.375;
   result.noise = {box};
   result.motion.odometry_steps = 7;
   result.motion.odometry_sigma_t = 0.005;
@@ -253,6 +254,7 @@ TEST(ReplayOutputTest, SummaryJsonReportsWhatTheBackendBelievedOfTheNoise) {
                                             "\"scale_r\": null",
                                             "\"factor_t\": 4.5",
                                             "\"factor_r\": 1",
+                                            "\"track_ratio\": 0.375",
                                             "\"motion\": {",
                                             "\"odometry\": {",
                                             "\"steps\": 7",

@@ -154,6 +154,14 @@ struct BackendOptions {
   // edges, and its detections are reported with object -1.
   int confirm_keyframes = 5;
   int tentative_timeout = 10;
+  // With estimate_noise, a tentative object is confirmed only if its
+  // detections, where the front end alone puts them, changed from one to
+  // the next as one static object's do: the median of the changes over
+  // their expected spread (the class's frame-to-frame noise and the motion
+  // noise of the steps in between) at most track_tolerance times its value
+  // for a static object (src/backend/object_track.h; docs/backend.md "Real
+  // detectors", 1). 0: no test.
+  double track_tolerance = 3.0;
   // Position gate in the detection's noise: an object of n observations
   // takes a detection only within gate_sigmas * sigma_t * sqrt(1 + 1/n)
   // (and gate_position). 0: gate_position only.

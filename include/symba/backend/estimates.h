@@ -146,6 +146,13 @@ struct ClassNoiseEstimate {
     double factor_r = 1.0;
   };
   Claims claims;
+  // What a tentative object's track is compared with before it is
+  // confirmed (BackendOptions::track_tolerance; docs/backend.md "Real
+  // detectors", 1): the median ratio of the steps of the class's confirmed
+  // objects, each change between two detections of one object over its
+  // expected spread (the class's sigma_increment and the motion noise
+  // stated in between); nullopt below noise_min_samples steps.
+  std::optional<double> track_ratio;
 };
 
 // What the backend weighs the camera's motion with, against the objects

@@ -69,7 +69,9 @@ std::vector<ClassNoiseEstimate> Backend::Impl::Noise() const {
     c.claims = noise.ClaimsReport(name);
     c.claims.factor_t = used.claim_scale_t.value_or(1.0);
     c.claims.factor_r = used.claim_scale_r.value_or(1.0);
-    c.track_ratio = noise.StepRatioReference(name);
+    if (const auto sigma_increment = noise.TranslationIncrementSigma(name)) {
+      c.track_ratio = noise.TrackRatio(name, *sigma_increment);
+    }
     classes.push_back(std::move(c));
   }
   return classes;

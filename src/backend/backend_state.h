@@ -5,7 +5,6 @@
 #define SYMBA_SRC_BACKEND_BACKEND_STATE_H_
 
 #include <cstdint>
-#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -17,6 +16,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "backend/track_step.h"
 #include "symba/backend/estimates.h"
 #include "symba/categorization/symmetry_type.h"
 #include "symba/factors/discrete_object_edge.h"
@@ -127,19 +127,6 @@ struct UpgradeRecord {
   double angle = 0.0;  // the flips' mean twist angle (rad)
 };
 
-// One step of a tentative object's track (object_track.h): the change of
-// its detection's front-end position between keyframes `from` and `to`
-// (indices), and the later detection's distance from its camera.
-struct TrackStep {
-  double change = 0.0;  // m
-  int from = -1;
-  int to = -1;
-  double distance = 0.0;  // m
-};
-
-// The steps a tentative object keeps (the latest ones).
-inline constexpr size_t kMaxTrackSteps = 32;
-
 struct ObjectState {
   int id = 0;
   ObjectStatus status = ObjectStatus::kConfirmed;
@@ -167,8 +154,8 @@ struct ObjectState {
   Eigen::Vector3d chain_last_position = Eigen::Vector3d::Zero();
   std::optional<Eigen::Quaterniond> chain_last_rotation;
   // While tentative: the steps between its detections' front-end positions
-  // (the last kMaxTrackSteps; object_track.h). Cleared at confirmation.
-  std::deque<TrackStep> track;
+  // (the last kMaxTrackSteps; object_track.h). Freed at confirmation.
+  std::vector<TrackStep> track;
   std::string class_name;
   SymmetryType type = SymmetryType::kAsymmetric;
   double q[4] = {0, 0, 0, 1};                     // q_wo (asymmetric)

@@ -152,18 +152,18 @@ std::optional<double> DetectionNoiseEstimator::ClaimScale(
   return it->second.Scale();
 }
 
-void DetectionNoiseEstimator::AddStepRatio(const std::string& class_name,
-                                           double ratio) {
-  step_ratios_.try_emplace(class_name, window_).first->second.Add(ratio);
+void DetectionNoiseEstimator::AddTrackStep(const std::string& class_name,
+                                           const TrackStep& step) {
+  tracks_.try_emplace(class_name, window_).first->second.Add(step);
 }
 
-std::optional<double> DetectionNoiseEstimator::StepRatioReference(
-    const std::string& class_name) const {
-  const auto it = step_ratios_.find(class_name);
-  if (it == step_ratios_.end() || it->second.size() < min_samples_) {
+std::optional<double> DetectionNoiseEstimator::TrackRatio(
+    const std::string& class_name, double sigma_increment) const {
+  const auto it = tracks_.find(class_name);
+  if (it == tracks_.end() || it->second.size() < min_samples_) {
     return std::nullopt;
   }
-  return it->second.Median();
+  return it->second.Ratio(sigma_increment);
 }
 
 ClassNoiseEstimate::Claims DetectionNoiseEstimator::ClaimsReport(

@@ -48,6 +48,7 @@
 #include <string>
 #include <vector>
 
+#include "backend/object_track.h"
 #include "common/median.h"
 #include "symba/backend/estimates.h"
 
@@ -161,11 +162,12 @@ class DetectionNoiseEstimator {
       const std::string& class_name) const {
     return IncrementSigma(translation_, class_name);
   }
-  // The ratio r of one step of a confirmed object of the class
-  // (object_track.h), and the class's reference: the median r of the last
-  // `window` steps, once there are min_samples.
-  void AddStepRatio(const std::string& class_name, double ratio);
-  std::optional<double> StepRatioReference(const std::string& class_name) const;
+  // One step of a confirmed object of the class (object_track.h), and the
+  // class's reference ratio R over the last `window` steps with the given
+  // sigma_I, once there are min_samples.
+  void AddTrackStep(const std::string& class_name, const TrackStep& step);
+  std::optional<double> TrackRatio(const std::string& class_name,
+                                   double sigma_increment) const;
   ClassNoiseEstimate::Scatter ScatterReport(
       const std::string& class_name) const;
   ClassNoiseEstimate::Claims ClaimsReport(const std::string& class_name) const;
@@ -204,7 +206,7 @@ class DetectionNoiseEstimator {
   std::map<std::string, ScatterScales> scatter_;
   std::map<std::string, ClaimSamples> claim_t_;
   std::map<std::string, ClaimSamples> claim_r_;
-  std::map<std::string, RobustScale> step_ratios_;
+  std::map<std::string, TrackReference> tracks_;
 };
 
 // The position noise (m) of an object's mean over its detections in n

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "backend/loaded_object_prior.h"
+#include "backend/object_track.h"
 #include "backend/upgrade_evidence.h"
 #include "symba/geometry/pi.h"
 #include "symba/geometry/swing_twist.h"
@@ -107,15 +108,12 @@ void ObjectMap::NoteDetection(int o,
 
 void ObjectMap::NoteTrackStep(ObjectState& object, const TrackStep& step) {
   if (object.status == ObjectStatus::kTentative) {
+    if (object.track.size() == kMaxTrackSteps) {
+      object.track.erase(object.track.begin());
+    }
     object.track.push_back(step);
-    if (object.track.size() > kMaxTrackSteps) object.track.pop_front();
-    return;
-  }
-  const std::optional<double> sigma_increment =
-      noise_.TranslationIncrementSigma(object.class_name);
-  if (object.status == ObjectStatus::kConfirmed && sigma_increment) {
-    noise_.AddStepRatio(object.class_name,
-                        StepRatio(step, *sigma_increment, graph_->keyframes()));
+  } else if (object.status == ObjectStatus::kConfirmed) {
+    noise_.AddTrackStep(object.class_name, step);
   }
 }
 
@@ -125,10 +123,11 @@ bool ObjectMap::TrackLooksStatic(const ObjectState& object) const {
   }
   const std::optional<double> sigma_increment =
       noise_.TranslationIncrementSigma(object.class_name);
+  if (!sigma_increment) return true;
   const std::optional<double> reference =
-      noise_.StepRatioReference(object.class_name);
-  if (!sigma_increment || !reference) return true;
-  return MedianStepRatio(object.track, *sigma_increment, graph_->keyframes()) <=
+      noise_.TrackRatio(object.class_name, *sigma_increment);
+  if (!reference) return true;
+  return MedianStepRatio(object.track, *sigma_increment) <=
          options_.track_tolerance * *reference;
 }
 
@@ -139,7 +138,7 @@ void ObjectMap::UpdateTentative(int k) {
     if (object.keyframes_seen >= options_.confirm_keyframes &&
         TrackLooksStatic(object)) {
       object.status = ObjectStatus::kConfirmed;
-      object.track.clear();
+      object.track = {};
       ++statistics_->objects;
       ++confirmations_;
     } else if (k - object.last_keyframe >= options_.tentative_timeout) {
@@ -554,12 +553,15 @@ void ObjectMap::SampleNoise(int o,
                             (p - object.chain_last_position).norm());
     }
   }
-  if (object.chain_last_keyframe >= 0 && object.chain_last_keyframe < k) {
+  const int j = object.chain_last_keyframe;
+  if (j >= 0 && j < k) {
+    // The map alone (its tests) may not hold the keyframes: no growth.
+    const KeyframeList& keyframes = graph_->keyframes();
+    const double growth = k < static_cast<int>(keyframes.size())
+                              ? PlaceGrowth(keyframes, j, k, t_co.norm())
+                              : 0.0;
     NoteTrackStep(object,
-                  TrackStep{(p - object.chain_last_position).norm(),
-                            object.chain_last_keyframe,
-                            k,
-                            t_co.norm()});
+                  TrackStep{(p - object.chain_last_position).norm(), growth});
   }
   object.chain_position_sum += p;
   ++object.chain_count;

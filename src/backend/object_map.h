@@ -20,7 +20,6 @@
 #include "backend/claim_pairs.h"
 #include "backend/detection_noise.h"
 #include "backend/factor_graph.h"
-#include "backend/object_track.h"
 #include "backend/upgrade_evidence.h"
 #include "symba/backend/backend.h"
 #include "symba/categorization/hypothesis_scatter.h"
@@ -167,8 +166,8 @@ class ObjectMap {
   // class has a frame-to-frame noise and a reference ratio.
   bool TrackLooksStatic(const ObjectState& object) const;
   // A step between two detections of `object` (object_track.h): kept on
-  // its track while tentative, a sample of the class's reference ratio
-  // once confirmed (with a frame-to-frame noise to scale it by).
+  // its track while tentative, one of the class's reference steps once
+  // confirmed.
   void NoteTrackStep(ObjectState& object, const TrackStep& step);
   void Drop(int o);
   // A new angle of discrete object o at the world rotation R_wo.

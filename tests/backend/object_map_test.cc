@@ -519,57 +519,66 @@ TEST_F(ObjectMapTest, AnAr1ErrorGetsItsInflation) {
   EXPECT_NEAR(*estimate.sigma_t, kSigma * inflation, 0.15 * kSigma * inflation);
 }
 
-// A step's ratio r = |d| / sqrt(2 sigma_I^2 + G) (object_track.h), G the
-// stated motion variance of keyframes from + 1 .. to at the detection's
-// distance: here (5e-4 - 1e-4) m^2 + 2^2 (3e-5 - 1e-5) rad^2 = 4.8e-4 m^2.
+// A step's ratio r = |d| / sqrt(2 sigma_I^2 + G) (object_track.h).
 TEST(ObjectTrack, AStepsRatioIsItsChangeOverItsExpectedSpread) {
-  KeyframeList keyframes;
-  const double summed_t[] = {0.0, 1e-4, 2e-4, 5e-4};
-  const double summed_r[] = {0.0, 1e-5, 2e-5, 3e-5};
-  for (int k = 0; k < 4; ++k) {
-    keyframes.push_back(std::make_unique<KeyframeState>());
-    keyframes.back()->summed_motion_variance_t = summed_t[k];
-    keyframes.back()->summed_motion_variance_r = summed_r[k];
-  }
   const double sigma_increment = 0.01;
-  const TrackStep gap{0.05, 1, 3, 2.0};
-  EXPECT_NEAR(StepRatio(gap, sigma_increment, keyframes),
-              0.05 / std::sqrt(2e-4 + 4.8e-4),
-              1e-12);
-  // A keyframe the list does not hold adds no growth.
-  const TrackStep beyond{0.02, 3, 7, 2.0};
-  EXPECT_NEAR(StepRatio(beyond, sigma_increment, keyframes),
+  const TrackStep gap{0.05, 4.8e-4};
+  EXPECT_NEAR(
+      StepRatio(gap, sigma_increment), 0.05 / std::sqrt(2e-4 + 4.8e-4), 1e-12);
+  const TrackStep next{0.02, 0.0};
+  EXPECT_NEAR(StepRatio(next, sigma_increment), 0.02 / std::sqrt(2e-4), 1e-12);
+  const TrackStep far{0.01, 3.1e-4};
+  EXPECT_NEAR(
+      StepRatio(far, sigma_increment), 0.01 / std::sqrt(2e-4 + 3.1e-4), 1e-12);
+  // The middle of 1.917, 1.414 and 0.443.
+  EXPECT_NEAR(MedianStepRatio({gap, next, far}, sigma_increment),
               0.02 / std::sqrt(2e-4),
               1e-12);
-  const TrackStep next{0.01, 2, 3, 1.0};  // G = 3e-4 + 1e-5
-  EXPECT_NEAR(StepRatio(next, sigma_increment, keyframes),
-              0.01 / std::sqrt(2e-4 + 3.1e-4),
-              1e-12);
-  EXPECT_NEAR(MedianStepRatio({gap, beyond, next}, sigma_increment, keyframes),
-              0.02 / std::sqrt(2e-4),
-              1e-12);
-  EXPECT_EQ(MedianStepRatio({}, sigma_increment, keyframes), 0.0);
+  EXPECT_EQ(MedianStepRatio({}, sigma_increment), 0.0);
   // No spread at all: only no change is static.
-  EXPECT_EQ(StepRatio({0.0, 3, 7, 1.0}, 0.0, keyframes), 0.0);
-  EXPECT_TRUE(std::isinf(StepRatio({0.01, 3, 7, 1.0}, 0.0, keyframes)));
+  EXPECT_EQ(StepRatio({0.0, 0.0}, 0.0), 0.0);
+  EXPECT_TRUE(std::isinf(StepRatio({0.01, 0.0}, 0.0)));
+}
+
+// The reference keeps the last `window` steps and takes their ratios with
+// the sigma_I it is asked with.
+TEST(ObjectTrack, TheReferenceIsTheMedianRatioOfTheLastSteps) {
+  TrackReference reference(3);
+  EXPECT_EQ(reference.Ratio(0.01), 0.0);
+  for (const double change : {0.5, 0.01, 0.02, 0.03}) {
+    reference.Add({change, 0.0});
+  }
+  EXPECT_EQ(reference.size(), 3);  // 0.5 left the ring
+  EXPECT_NEAR(reference.Ratio(0.01), 0.02 / std::sqrt(2e-4), 1e-12);
+  EXPECT_NEAR(reference.Ratio(0.02), 0.02 / std::sqrt(8e-4), 1e-12);
 }
 
 // A confirmed box whose detections change by 1 cm from keyframe to
-// keyframe gives the class its frame-to-frame noise (sigma_I = 0.01 /
-// (1.5382 sqrt 2)) and its reference ratio (1.5382: no motion noise here).
-// Two new boxes from keyframe 8: one that changes by 1 cm as well is
-// confirmed with its third keyframe, one that jumps by 30 cm (ratio 46, 30
-// times the reference) is not, and is dropped once no detection joined it
-// for tentative_timeout keyframes. With track_tolerance 0 both are
-// confirmed.
+// keyframe (the map's keyframes state no motion noise) gives the class its
+// frame-to-frame noise sigma_I = 0.01 / (1.5382 sqrt 2) and its reference
+// ratio R = 0.01 / (sqrt 2 sigma_I) = 1.5382. From keyframe 8 three new
+// boxes change by 2.9 cm (ratio 4.46, within 3 R = 4.61: confirmed with
+// its third keyframe), by 3.1 cm (4.77: not) and by 30 cm (46.1: not); the
+// two are dropped once no detection joined them for tentative_timeout
+// keyframes. With track_tolerance 0, or without estimate_noise, all three
+// are confirmed.
 TEST_F(ObjectMapTest, AWanderingTentativeObjectIsNotConfirmed) {
-  for (const double tolerance : {3.0, 0.0}) {
-    SCOPED_TRACE(tolerance);
+  for (int k = 0; k <= 16; ++k) {
+    keyframes_.push_back(std::make_unique<KeyframeState>());
+  }
+  struct Case {
+    double tolerance;
+    bool estimate_noise;
+  };
+  for (const Case c : {Case{3.0, true}, Case{0.0, true}, Case{3.0, false}}) {
+    SCOPED_TRACE(c.tolerance);
+    SCOPED_TRACE(c.estimate_noise);
     BackendOptions options;
     options.confirm_keyframes = 3;
     options.tentative_timeout = 4;
     options.noise_min_samples = 3;
-    options.track_tolerance = tolerance;
+    options.track_tolerance = c.tolerance;
+    options.estimate_noise = c.estimate_noise;
     statistics_ = BackendStatistics();
     assignments_.clear();
     Build(options);
@@ -580,35 +589,48 @@ TEST_F(ObjectMapTest, AWanderingTentativeObjectIsNotConfirmed) {
     };
     const int box =
         map_->Create("box", SymmetryType::kAsymmetric, At(0, 0, 0), 0);
-    int steady = -1;
-    int wandering = -1;
+    const double changes[] = {0.029, 0.031, 0.3};
+    std::vector<int> boxes;
     for (int k = 0; k <= 16; ++k) {
       detect(box, k, 0.01 * (k % 2));
       if (k == 8) {
-        steady = map_->Create("box", SymmetryType::kAsymmetric, At(5, 0, 0), k);
-        wandering =
-            map_->Create("box", SymmetryType::kAsymmetric, At(10, 0, 0), k);
+        for (int i = 0; i < 3; ++i) {
+          boxes.push_back(map_->Create(
+              "box", SymmetryType::kAsymmetric, At(5 * (i + 1), 0, 0), k));
+        }
       }
       if (k >= 8 && k <= 10) {
-        detect(steady, k, 5.0 + 0.01 * (k % 2));
-        detect(wandering, k, 10.0 + 0.3 * (k % 2));
+        for (int i = 0; i < 3; ++i) {
+          detect(boxes[i], k, 5 * (i + 1) + changes[i] * (k % 2));
+        }
       }
       map_->UpdateTentative(k);
-      if (k == 7) {
-        ASSERT_TRUE(map_->noise().StepRatioReference("box").has_value());
+      if (k == 7 && c.estimate_noise) {
+        const auto sigma_increment =
+            map_->noise().TranslationIncrementSigma("box");
+        ASSERT_TRUE(sigma_increment.has_value());
         EXPECT_NEAR(
-            *map_->noise().StepRatioReference("box"), kChi3Median, 1e-9);
+            *sigma_increment, 0.01 / (kChi3Median * std::sqrt(2.0)), 1e-12);
+        const auto reference =
+            map_->noise().TrackRatio("box", *sigma_increment);
+        ASSERT_TRUE(reference.has_value());
+        EXPECT_NEAR(*reference, kChi3Median, 1e-9);
+        EXPECT_NEAR(MedianStepRatio({{0.3, 0.0}}, *sigma_increment),
+                    0.3 / 0.01 * kChi3Median,
+                    1e-9);
       }
     }
-    EXPECT_EQ(map_->objects()[steady]->status, ObjectStatus::kConfirmed);
-    EXPECT_TRUE(map_->objects()[steady]->track.empty());
-    if (tolerance > 0.0) {
-      EXPECT_EQ(map_->objects()[wandering]->status, ObjectStatus::kDropped);
+    EXPECT_EQ(map_->objects()[boxes[0]]->status, ObjectStatus::kConfirmed);
+    EXPECT_TRUE(map_->objects()[boxes[0]]->track.empty());
+    if (c.tolerance > 0.0 && c.estimate_noise) {
+      EXPECT_EQ(map_->objects()[boxes[1]]->status, ObjectStatus::kDropped);
+      EXPECT_EQ(map_->objects()[boxes[2]]->status, ObjectStatus::kDropped);
       EXPECT_EQ(statistics_.objects, 2);
-      EXPECT_EQ(statistics_.objects_dropped, 1);
+      EXPECT_EQ(statistics_.objects_dropped, 2);
     } else {
-      EXPECT_EQ(map_->objects()[wandering]->status, ObjectStatus::kConfirmed);
-      EXPECT_EQ(statistics_.objects, 3);
+      EXPECT_EQ(map_->objects()[boxes[1]]->status, ObjectStatus::kConfirmed);
+      EXPECT_EQ(map_->objects()[boxes[2]]->status, ObjectStatus::kConfirmed);
+      EXPECT_EQ(statistics_.objects, 4);
     }
   }
 }

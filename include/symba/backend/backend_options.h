@@ -158,9 +158,10 @@ struct BackendOptions {
   // detections, where the front end alone puts them, changed from one to
   // the next as one static object's do: the median of the changes over
   // their expected spread (the class's frame-to-frame noise and the motion
-  // noise of the steps in between) at most track_tolerance times its value
-  // for a static object (src/backend/object_track.h; docs/backend.md "Real
-  // detectors", 1). 0: no test.
+  // noise of the steps in between) at most track_tolerance times the median
+  // of the class's confirmed objects (src/backend/object_track.h;
+  // docs/backend.md "Real detectors", 1). 0: no test; nor with
+  // confirm_keyframes 1.
   double track_tolerance = 3.0;
   // Position gate in the detection's noise: an object of n observations
   // takes a detection only within gate_sigmas * sigma_t * sqrt(1 + 1/n)

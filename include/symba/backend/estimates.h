@@ -150,8 +150,9 @@ struct ClassNoiseEstimate {
   // confirmed (BackendOptions::track_tolerance; docs/backend.md "Real
   // detectors", 1): the median ratio of the steps of the class's confirmed
   // objects, each change between two detections of one object over its
-  // expected spread (the class's sigma_increment and the motion noise
-  // stated in between); nullopt below noise_min_samples steps.
+  // expected spread (the class's sigma_increment and the motion noise the
+  // camera factors apply in between); nullopt below noise_min_samples
+  // steps or without a sigma_increment.
   std::optional<double> track_ratio;
 };
 

@@ -5,17 +5,8 @@
 
 namespace symba::internal {
 
-void RobustScale::Add(double value) {
-  if (static_cast<int>(values_.size()) < window_) {
-    values_.push_back(value);
-    return;
-  }
-  values_[next_] = value;
-  next_ = (next_ + 1) % values_.size();
-}
-
 double RobustScale::Median() const {
-  scratch_ = values_;
+  scratch_ = values_.values();
   return MedianInPlace(&scratch_);
 }
 

@@ -50,6 +50,7 @@
 
 #include "backend/object_track.h"
 #include "common/median.h"
+#include "common/recent_values.h"
 #include "symba/backend/estimates.h"
 
 namespace symba::internal {
@@ -64,17 +65,15 @@ inline constexpr double kMaxCorrelation = 0.98;
 // The median of the last `window` values added, over kChi3Median.
 class RobustScale {
  public:
-  explicit RobustScale(int window) : window_(window) {}
-  void Add(double value);
-  int size() const { return static_cast<int>(values_.size()); }
+  explicit RobustScale(int window) : values_(window) {}
+  void Add(double value) { values_.Add(value); }
+  int size() const { return values_.size(); }
   // The values must not be empty.
   double Median() const;
   double Sigma() const;  // Median() / kChi3Median
 
  private:
-  int window_;
-  std::vector<double> values_;  // a ring once full
-  size_t next_ = 0;
+  RecentValues<double> values_;
   mutable std::vector<double> scratch_;
 };
 

@@ -15,28 +15,31 @@ double StepRatio(const TrackStep& step, double sigma_increment) {
   return step.change > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
 }
 
+namespace {
+
+// The median r over `steps` (0 without steps), with `ratios` as scratch.
 double MedianStepRatio(const std::vector<TrackStep>& steps,
-                       double sigma_increment) {
+                       double sigma_increment,
+                       std::vector<double>* ratios) {
   if (steps.empty()) return 0.0;
-  std::vector<double> ratios;
-  ratios.reserve(steps.size());
+  ratios->clear();
   for (const TrackStep& step : steps) {
-    ratios.push_back(StepRatio(step, sigma_increment));
+    ratios->push_back(StepRatio(step, sigma_increment));
   }
-  return MedianInPlace(&ratios);
+  return MedianInPlace(ratios);
 }
 
-void TrackReference::Add(const TrackStep& step) {
-  if (static_cast<int>(steps_.size()) < window_) {
-    steps_.push_back(step);
-    return;
-  }
-  steps_[next_] = step;
-  next_ = (next_ + 1) % steps_.size();
+}  // namespace
+
+double MedianStepRatio(const std::vector<TrackStep>& steps,
+                       double sigma_increment) {
+  std::vector<double> ratios;
+  ratios.reserve(steps.size());
+  return MedianStepRatio(steps, sigma_increment, &ratios);
 }
 
 double TrackReference::Ratio(double sigma_increment) const {
-  return MedianStepRatio(steps_, sigma_increment);
+  return MedianStepRatio(steps_.values(), sigma_increment, &scratch_);
 }
 
 }  // namespace symba::internal

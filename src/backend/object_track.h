@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "backend/track_step.h"
+#include "common/recent_values.h"
 
 namespace symba::internal {
 
@@ -44,16 +45,15 @@ double MedianStepRatio(const std::vector<TrackStep>& steps,
 // reference R.
 class TrackReference {
  public:
-  explicit TrackReference(int window) : window_(window) {}
-  void Add(const TrackStep& step);
-  int size() const { return static_cast<int>(steps_.size()); }
+  explicit TrackReference(int window) : steps_(window) {}
+  void Add(const TrackStep& step) { steps_.Add(step); }
+  int size() const { return steps_.size(); }
   // The median r of the steps kept; 0 without steps.
   double Ratio(double sigma_increment) const;
 
  private:
-  int window_;
-  std::vector<TrackStep> steps_;  // a ring once full
-  size_t next_ = 0;
+  RecentValues<TrackStep> steps_;
+  mutable std::vector<double> scratch_;  // the ratios, reused
 };
 
 }  // namespace symba::internal

@@ -246,11 +246,13 @@ Status Backend::Impl::OptimizeWindow(SolveReport* report) {
   }
   bool closed = false;
   if (outcome.usable) {
+    past_moved_ = false;
     closed = !pending_loops_.empty();
     ClosePendingLoops();
     closed = DetectObjectLoop() || closed;
     if (revisit_pending_ && !closed) closed = MovePastForRevisit();
     revisit_pending_ = false;
+    closed = MergeDuplicatesTheMoveJoined() || closed;
   }
   if (closed) {
     // The window again, from the moved past, with the loop constraints and

@@ -178,13 +178,18 @@ class Backend::Impl {
   // that lie on earlier objects merged (MergeRevisitedDuplicates); true if
   // either changed the map.
   bool DetectObjectLoop();
+  // After a solve whose closures or revisit moved the past (past_moved_):
+  // every pair of copies of one object the move brought together, wherever
+  // the camera is now, merged (MergeRevisitedDuplicates over every object);
+  // true if one was.
+  bool MergeDuplicatesTheMoveJoined();
   bool CloseLoopFromObjects();
   // Each confirmed object first detected recently or detected by the
-  // newest keyframe that is, within the association gates, the one other
+  // newest keyframe (or, with `every_object`, each confirmed object) that is, within the association gates, the one other
   // confirmed object of its class and type no keyframe detected together
   // with it, is merged with it (the later-made into the earlier-made);
   // returns how many.
-  int MergeRevisitedDuplicates();
+  int MergeRevisitedDuplicates(bool every_object = false);
   // Whether a and b are one object by the association gates: positions
   // within gate_sigmas of their uncertainty (PositionSigma) and
   // gate_position, and rotation (gate_rotation), axis (gate_axis) or one
@@ -249,6 +254,8 @@ class Backend::Impl {
   // A detection of the newest keyframe was associated through a gate grown
   // since its place was last seen before the window (NoteRevisit).
   bool revisit_pending_ = false;
+  // MovePastByGraph moved the past since the window solve began.
+  bool past_moved_ = false;
   // Keyframes before this index have been through a solve: a closure of a
   // later one waits for the next (its pose is a prediction until then).
   int solved_keyframes_ = 0;

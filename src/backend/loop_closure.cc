@@ -190,6 +190,7 @@ void Backend::Impl::MovePastByGraph(int k,
              window_begin);
     const Rigid3d step = keyframes[k]->T_wc() * before.Inverse();
     report.moved_past = true;
+    past_moved_ = true;
     report.correction_m = (keyframes[k]->T_wc().t - before.t).norm();
     report.correction_deg = AngleDeg(step.q);
     report.initial_cost = summary.given_cost;

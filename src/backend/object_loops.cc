@@ -278,7 +278,18 @@ bool NeverSeenTogether(const internal::ObjectState& a,
 
 }  // namespace
 
-int Backend::Impl::MergeRevisitedDuplicates() {
+bool Backend::Impl::MergeDuplicatesTheMoveJoined() {
+  // A moved past can bring together two copies of an object that neither
+  // the revisit nor the camera's place now touch: made on a visit whose
+  // window drifted off the merged place, and put back on it by a later
+  // closure elsewhere (the graph moves both with their keyframes).
+  const bool moved = past_moved_;
+  past_moved_ = false;
+  if (!moved || !options_.detect_loops) return false;
+  return MergeRevisitedDuplicates(/*every_object=*/true) > 0;
+}
+
+int Backend::Impl::MergeRevisitedDuplicates(bool every_object) {
   const internal::ObjectList& objects = map_.objects();
   const int n = static_cast<int>(trajectory_.keyframes().size());
   const int recent_begin = std::max(0, n - options_.loop_recent_keyframes);
@@ -289,7 +300,7 @@ int Backend::Impl::MergeRevisitedDuplicates() {
     // one object that a drift made and a loop brought together are
     // detected in turn, each where the other is.
     if (!internal::IsMapped(candidate) ||
-        (candidate.created_keyframe < recent_begin &&
+        (!every_object && candidate.created_keyframe < recent_begin &&
          candidate.last_keyframe != n - 1)) {
       continue;
     }

@@ -1,5 +1,6 @@
 // What the backend believed of the noise: each class's detection noise
-// (ClassNoise, with its NoiseSamples, HypothesisScatter and NoiseClaims) and
+// (ClassNoise, with its NoiseSamples, HypothesisScatter, NoiseClaims and
+// EdgeWeights) and
 // the camera's motion noise (MotionNoise, with a MotionClaimGroup per group
 // of steps the front end stated alike). The attributes carry the C++ names
 // of symba/backend/estimates.h; summary.json's "noise" and "motion" hold
@@ -78,6 +79,25 @@ void BindClassNoise(py::module_& m) {
                               "factor_r"});
       });
 
+  using Weights = ClassNoiseEstimate::Weights;
+  py::class_<Weights>(m,
+                      "EdgeWeights",
+                      "What the edges of the class's confirmed objects weigh "
+                      "its detections with now: how many declare a sigma, are "
+                      "weighed by their hypotheses' scatter or state neither, "
+                      "and the medians of the sigmas used.")
+      .def_readonly("declared", &Weights::declared)
+      .def_readonly("scatter", &Weights::scatter)
+      .def_readonly("unstated", &Weights::unstated)
+      .def_readonly("sigma_t", &Weights::sigma_t, "m, or None.")
+      .def_readonly("sigma_r", &Weights::sigma_r, "rad, or None.")
+      .def("__repr__", [](const py::handle& self) {
+        return AttributeRepr(
+            self,
+            "EdgeWeights",
+            {"declared", "scatter", "unstated", "sigma_t", "sigma_r"});
+      });
+
   using C = ClassNoiseEstimate;
   py::class_<C>(m,
                 "ClassNoise",
@@ -104,6 +124,9 @@ void BindClassNoise(py::module_& m) {
                     "The median step ratio of the class's confirmed objects "
                     "that a tentative object's track is compared with "
                     "(options.track_tolerance), or None.")
+      .def_readonly("weights",
+                    &C::weights,
+                    "EdgeWeights: what the class's edges use now.")
       .def("__repr__", [](const py::handle& self) {
         return AttributeRepr(self,
                              "ClassNoise",
@@ -111,7 +134,9 @@ void BindClassNoise(py::module_& m) {
                               "sigma_t",
                               "sigma_r",
                               "weight_sigma_t",
-                              "weight_sigma_r"});
+                              "weight_sigma_r",
+                              "track_ratio",
+                              "weights"});
       });
 }
 

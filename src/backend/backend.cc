@@ -15,6 +15,7 @@
 #include "backend/keyframe_validation.h"
 #include "backend/object_covariances.h"
 #include "backend/relocalizer.h"
+#include "common/median.h"
 #include "symba/common/check.h"
 
 namespace symba {
@@ -72,9 +73,37 @@ std::vector<ClassNoiseEstimate> Backend::Impl::Noise() const {
     if (const auto sigma_increment = noise.TranslationIncrementSigma(name)) {
       c.track_ratio = noise.TrackRatio(name, *sigma_increment);
     }
+    c.weights = EdgeWeights(name);
     classes.push_back(std::move(c));
   }
   return classes;
+}
+
+ClassNoiseEstimate::Weights Backend::Impl::EdgeWeights(
+    const std::string& class_name) const {
+  ClassNoiseEstimate::Weights weights;
+  std::vector<double> sigmas_t;
+  std::vector<double> sigmas_r;
+  for (int o : map_.ObjectsOfClass(class_name)) {
+    const internal::ObjectState& object = *map_.objects()[o];
+    if (!internal::IsMapped(object)) continue;
+    for (const internal::ObjectObservation& observation : object.observations) {
+      if (observation.claimed_t || observation.claimed_r) {
+        ++weights.declared;
+      } else if (observation.from_scatter) {
+        ++weights.scatter;
+      } else {
+        ++weights.unstated;
+      }
+      const internal::EdgeSigmas sigmas =
+          edges_.ObservationNoise(object, observation);
+      sigmas_t.push_back(sigmas.t);
+      if (!observation.position_only) sigmas_r.push_back(sigmas.r);
+    }
+  }
+  if (!sigmas_t.empty()) weights.sigma_t = internal::MedianInPlace(&sigmas_t);
+  if (!sigmas_r.empty()) weights.sigma_r = internal::MedianInPlace(&sigmas_r);
+  return weights;
 }
 
 Status Backend::Impl::ObjectCovariances(

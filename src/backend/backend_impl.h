@@ -55,6 +55,9 @@ class Backend::Impl {
   std::optional<KeyframeEstimate> Keyframe(KeyframeId id) const;
   std::optional<MapObjectEstimate> Object(ObjectId id) const;
   std::vector<ClassNoiseEstimate> Noise() const;
+  // What the edges of the class's confirmed objects weigh its detections
+  // with now (ClassNoiseEstimate::weights).
+  ClassNoiseEstimate::Weights EdgeWeights(const std::string& class_name) const;
   MotionNoiseReport MotionNoise() const {
     MotionNoiseReport report = trajectory_.MotionNoise();
     report.claims = map_.motion_claims().Report();

@@ -202,6 +202,19 @@ ClassNoise ObjectEdges::AppliedNoise(const std::string& class_name) const {
   return it == applied_noise_.end() ? ClassNoise{} : it->second;
 }
 
+EdgeSigmas ObjectEdges::ObservationNoise(
+    const ObjectState& object, const ObjectObservation& observation) const {
+  const auto noise = applied_noise_.find(object.class_name);
+  if (noise != applied_noise_.end()) {
+    return EffectiveNoise(observation, noise->second);
+  }
+  if (observation.from_scatter || observation.claimed_t ||
+      observation.claimed_r) {
+    return {observation.sigma_t, observation.sigma_r};
+  }
+  return {options_.hypothesis_sigma_t, options_.hypothesis_sigma_r};
+}
+
 Eigen::Vector3d MeasuredAxis(const ObjectState& object,
                              const ObjectObservation& observation,
                              const Eigen::Quaterniond& q_wc) {

@@ -85,6 +85,13 @@ class ObjectEdges {
   }
   // The noise applied to the class's edges (empty sigmas: none yet).
   ClassNoise AppliedNoise(const std::string& class_name) const;
+  // The sigmas the edge of `observation` (of `object`) is built with now:
+  // EffectiveNoise once the class has an applied noise, before that the
+  // detection's own (declared or its scatter) or the default
+  // (InitialSqrtInfo). A position-only view's rotation sigma is the
+  // detection's; its edge ignores it (kPositionOnlySigmaR).
+  EdgeSigmas ObservationNoise(const ObjectState& object,
+                              const ObjectObservation& observation) const;
   // Every class's applied noise, by name.
   const std::map<std::string, ClassNoise>& applied_noise() const {
     return applied_noise_;

@@ -59,6 +59,14 @@ void WriteNoise(const std::vector<ClassNoiseEstimate>& noise,
         .Member("factor_r", c.claims.factor_r)
         .EndObject();
     OptionalMember("track_ratio", c.track_ratio, json);
+    json->Key("weights")
+        .BeginObject()
+        .Member("declared", c.weights.declared)
+        .Member("scatter", c.weights.scatter)
+        .Member("unstated", c.weights.unstated);
+    OptionalMember("sigma_t", c.weights.sigma_t, json);
+    OptionalMember("sigma_r", c.weights.sigma_r, json);
+    json->EndObject();
     json->EndObject();
   }
   json->EndArray();

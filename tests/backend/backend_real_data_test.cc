@@ -127,6 +127,13 @@ TEST_P(BackendRealData, Ycbv0001KeepsTheCameraAndOneObjectPerBox) {
                 1e-12);
     EXPECT_GE(c.weight_sigma_t, options.uncalibrated_sigma_t);
     EXPECT_GE(c.weight_sigma_t, *c.sigma_t);
+    // DOPE states nothing and gives one pose: every edge of the class's
+    // map object uses weight_sigma_* (a flipped view joins it without an
+    // edge, and an upgraded box has one per cluster).
+    EXPECT_GT(c.weights.unstated, by_class[c.class_name][0].observations / 2);
+    EXPECT_EQ(c.weights.declared + c.weights.scatter, 0);
+    EXPECT_EQ(c.weights.sigma_t, c.weight_sigma_t);
+    EXPECT_EQ(c.weights.sigma_r, c.weight_sigma_r);
   }
 }
 

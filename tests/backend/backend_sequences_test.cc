@@ -304,6 +304,23 @@ TEST(BackendSequences, AnUndeclaredDetectorCorrectsTheCameraByItsScatter) {
   EXPECT_NEAR(
       *scatter.sigma_r, spec.rotation_sigma, 0.15 * spec.rotation_sigma);
   EXPECT_EQ(floored->Noise().front().scatter.detections, 0);
+  // What the edges use: every edge of the 2-fold table (one per cluster
+  // of a detection, so at least one per detection) by its detection's
+  // scatter (held to the class's frame-to-frame noise), about the noise
+  // the hypotheses were drawn with; at the floor, weight_sigma_* itself.
+  const ClassNoiseEstimate::Weights& weights = noise.front().weights;
+  EXPECT_GE(weights.scatter, backend->Objects().front().observations);
+  EXPECT_EQ(weights.declared + weights.unstated, 0);
+  ASSERT_TRUE(weights.sigma_t && weights.sigma_r);
+  EXPECT_NEAR(
+      *weights.sigma_t, spec.translation_sigma, 0.15 * spec.translation_sigma);
+  EXPECT_NEAR(
+      *weights.sigma_r, spec.rotation_sigma, 0.15 * spec.rotation_sigma);
+  const ClassNoiseEstimate at_floor = floored->Noise().front();
+  EXPECT_GE(at_floor.weights.unstated, floored->Objects().front().observations);
+  EXPECT_EQ(at_floor.weights.declared + at_floor.weights.scatter, 0);
+  EXPECT_EQ(at_floor.weights.sigma_t, at_floor.weight_sigma_t);
+  EXPECT_EQ(at_floor.weights.sigma_r, at_floor.weight_sigma_r);
 
   // The baselines are weighed alike (they categorise only for the scatter).
   BackendOptions mh;
@@ -410,8 +427,16 @@ TEST(BackendSequences, ADetectorThatClaimsTooLittleNoiseDoesNotTakeTheCamera) {
   ASSERT_TRUE(claims.scale_t && claims.scale_r);
   EXPECT_NEAR(*claims.scale_t, 6.0, 0.15 * 6.0);
   EXPECT_NEAR(*claims.scale_r, 6.0, 0.15 * 6.0);
-  // The edges were built with it (within noise_update_ratio).
+  // The edges were built with it (within noise_update_ratio): each of the
+  // box's edges (one per detection) weighs its declared 1 cm and 0.01 rad
+  // times the factors.
   EXPECT_NEAR(claims.factor_t, *claims.scale_t, 0.25 * *claims.scale_t);
+  const ClassNoiseEstimate::Weights& weights = noise.front().weights;
+  EXPECT_EQ(weights.declared, backend->Objects().front().observations);
+  EXPECT_EQ(weights.scatter + weights.unstated, 0);
+  ASSERT_TRUE(weights.sigma_t && weights.sigma_r);
+  EXPECT_DOUBLE_EQ(*weights.sigma_t, 0.01 * claims.factor_t);
+  EXPECT_DOUBLE_EQ(*weights.sigma_r, 0.01 * claims.factor_r);
 }
 
 // The share of the detections of keyframes [first, first + count) of a run

@@ -368,7 +368,12 @@ def noise_as_summary(noise):
                         "scale_r": c.claims.scale_r,
                         "factor_t": c.claims.factor_t,
                         "factor_r": c.claims.factor_r},
-             "track_ratio": c.track_ratio}
+             "track_ratio": c.track_ratio,
+             "weights": {"declared": c.weights.declared,
+                         "scatter": c.weights.scatter,
+                         "unstated": c.weights.unstated,
+                         "sigma_t": c.weights.sigma_t,
+                         "sigma_r": c.weights.sigma_r}}
             for c in noise]
 
 
@@ -403,6 +408,12 @@ def test_noise_matches_the_summary(cli, tmp_path):
     assert table.sigma_t is not None and table.sigma_t > 0
     assert table.scatter.detections > 0
     assert table.claims.scale_t is None  # nothing declared, nothing tested
+    # Its edges use the scatter, not weight_sigma_t (which a detection
+    # stating neither would get).
+    assert table.weights.scatter > 0
+    assert table.weights.declared == table.weights.unstated == 0
+    assert table.weights.sigma_t < 0.1 < table.weight_sigma_t
+    assert "track_ratio" in repr(table) and "EdgeWeights" in repr(table)
     assert result.motion.odometry_steps == 39
     assert result.motion.odometry_sigma_t == 0.01
     assert len(result.motion.claims) == 2  # rich and featureless steps

@@ -209,6 +209,9 @@ TEST(ReplayOutputTest, SummaryJsonReportsWhatTheBackendBelievedOfTheNoise) {
   box.claims.scale_t = 4.5;
   box.claims.factor_t = 4.5;
   box.track_ratio = 0.375;
+  box.weights.scatter = 10;
+  box.weights.unstated = 3;
+  box.weights.sigma_t = 0.046875;
   result.noise = {box};
   result.motion.odometry_steps = 7;
   result.motion.odometry_sigma_t = 0.005;
@@ -255,6 +258,12 @@ TEST(ReplayOutputTest, SummaryJsonReportsWhatTheBackendBelievedOfTheNoise) {
                                             "\"factor_t\": 4.5",
                                             "\"factor_r\": 1",
                                             "\"track_ratio\": 0.375",
+                                            "\"weights\": {",
+                                            "\"declared\": 0",
+                                            "\"scatter\": 10",
+                                            "\"unstated\": 3",
+                                            "\"sigma_t\": 0.046875",
+                                            "\"sigma_r\": null",
                                             "\"motion\": {",
                                             "\"odometry\": {",
                                             "\"steps\": 7",

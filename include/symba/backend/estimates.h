@@ -154,6 +154,27 @@ struct ClassNoiseEstimate {
   // camera factors apply in between); nullopt below noise_min_samples
   // steps or without a sigma_increment.
   std::optional<double> track_ratio;
+  // What the edges of the class's confirmed objects weigh their detections
+  // with now (each as it is built with the class's noise as last applied;
+  // before the class has one, as the detection gave it): how many of the
+  // edges (one per detection, per cluster of one on a discrete object; a
+  // flipped view joins without one) are of detections that declare a sigma
+  // (weighed with it times the claim factor), that are weighed by their
+  // hypotheses' scatter (held to the class's frame-to-frame noise), or that
+  // state neither (the class's estimate against uncalibrated_sigma_*, or
+  // hypothesis_sigma_* before the estimate is applied or without
+  // estimate_noise), and the medians of the sigmas over all of them
+  // (nullopt: none; the rotation's without the views whose rotation
+  // carries no information). Unlike weight_sigma_*, which holds for a
+  // detection that states neither, this is what the edges use.
+  struct Weights {
+    int declared = 0;
+    int scatter = 0;
+    int unstated = 0;
+    std::optional<double> sigma_t;  // m
+    std::optional<double> sigma_r;  // rad
+  };
+  Weights weights;
 };
 
 // What the backend weighs the camera's motion with, against the objects

@@ -82,10 +82,11 @@ void BindClassNoise(py::module_& m) {
   using Weights = ClassNoiseEstimate::Weights;
   py::class_<Weights>(m,
                       "EdgeWeights",
-                      "What the edges of the class's confirmed objects weigh "
-                      "its detections with now: how many declare a sigma, are "
-                      "weighed by their hypotheses' scatter or state neither, "
-                      "and the medians of the sigmas used.")
+                      "What the edges of the class's confirmed objects "
+                      "weighed its detections with, each as last built: how "
+                      "many are of detections that declare a sigma, are "
+                      "weighed by their hypotheses' scatter or state "
+                      "neither, and the medians of their sigmas.")
       .def_readonly("declared", &Weights::declared)
       .def_readonly("scatter", &Weights::scatter)
       .def_readonly("unstated", &Weights::unstated)
@@ -126,7 +127,7 @@ void BindClassNoise(py::module_& m) {
                     "(options.track_tolerance), or None.")
       .def_readonly("weights",
                     &C::weights,
-                    "EdgeWeights: what the class's edges use now.")
+                    "EdgeWeights: what the class's edges were last built with.")
       .def("__repr__", [](const py::handle& self) {
         return AttributeRepr(self,
                              "ClassNoise",

@@ -88,6 +88,7 @@ ClassNoiseEstimate::Weights Backend::Impl::EdgeWeights(
     const internal::ObjectState& object = *map_.objects()[o];
     if (!internal::IsMapped(object)) continue;
     for (const internal::ObjectObservation& observation : object.observations) {
+      if (observation.edge_sigma_t <= 0.0) continue;  // no edge built
       if (observation.claimed_t || observation.claimed_r) {
         ++weights.declared;
       } else if (observation.from_scatter) {
@@ -95,10 +96,10 @@ ClassNoiseEstimate::Weights Backend::Impl::EdgeWeights(
       } else {
         ++weights.unstated;
       }
-      const internal::EdgeSigmas sigmas =
-          edges_.ObservationNoise(object, observation);
-      sigmas_t.push_back(sigmas.t);
-      if (!observation.position_only) sigmas_r.push_back(sigmas.r);
+      sigmas_t.push_back(observation.edge_sigma_t);
+      if (observation.edge_sigma_r > 0.0) {
+        sigmas_r.push_back(observation.edge_sigma_r);
+      }
     }
   }
   if (!sigmas_t.empty()) weights.sigma_t = internal::MedianInPlace(&sigmas_t);
@@ -275,7 +276,6 @@ Status Backend::Impl::OptimizeWindow(SolveReport* report) {
   }
   bool closed = false;
   if (outcome.usable) {
-    past_moved_ = false;
     closed = !pending_loops_.empty();
     ClosePendingLoops();
     closed = DetectObjectLoop() || closed;
@@ -304,6 +304,7 @@ Status Backend::Impl::OptimizeBatch(SolveReport* report) {
   if (options_.keep_history || graph_.marginalized_until() == 0) {
     solved_keyframes_ = static_cast<int>(trajectory_.keyframes().size());
     ClosePendingLoops();
+    MergeDuplicatesTheMoveJoined();
   }
   edges_.RebuildStale();
   internal::SolveOutcome outcome;

@@ -188,11 +188,16 @@ class Backend::Impl {
   bool MergeDuplicatesTheMoveJoined();
   bool CloseLoopFromObjects();
   // Each confirmed object first detected recently or detected by the
-  // newest keyframe (or, with `every_object`, each confirmed object) that is, within the association gates, the one other
-  // confirmed object of its class and type no keyframe detected together
-  // with it, is merged with it (the later-made into the earlier-made);
-  // returns how many.
+  // newest keyframe (with `every_object`, each confirmed object) that has
+  // one copy (OneCopyOf) whose one copy it is, is merged with it (the
+  // later-made into the earlier-made); returns how many. The pairs of a
+  // class are compared by distance first (gate_position), so a pass costs
+  // the squares of the classes' object counts in distance tests.
   int MergeRevisitedDuplicates(bool every_object = false);
+  // The one other confirmed object of object o's class and type that it
+  // is by the association gates (SameObject) and no keyframe detected
+  // together with it, not both of a loaded map; -1 if none or several.
+  int OneCopyOf(int o) const;
   // Whether a and b are one object by the association gates: positions
   // within gate_sigmas of their uncertainty (PositionSigma) and
   // gate_position, and rotation (gate_rotation), axis (gate_axis) or one
@@ -257,7 +262,8 @@ class Backend::Impl {
   // A detection of the newest keyframe was associated through a gate grown
   // since its place was last seen before the window (NoteRevisit).
   bool revisit_pending_ = false;
-  // MovePastByGraph moved the past since the window solve began.
+  // MovePastByGraph moved the past (a closure, the host's between solves
+  // included, or a revisit) since MergeDuplicatesTheMoveJoined last looked.
   bool past_moved_ = false;
   // Keyframes before this index have been through a solve: a closure of a
   // later one waits for the next (its pose is a prediction until then).

@@ -103,6 +103,13 @@ struct ObjectObservation {
   bool position_only = false;
   int angle = -1;   // discrete: the angle it constrains; -1: no angle
   int factor = -1;  // its edge's factor index
+  // The sigmas its edge was last built with (ObjectEdges::AddFactor): m,
+  // and rad where the edge weighs the rotation with it (an asymmetric
+  // view, a discrete angle's; not a position-only view); 0: no edge built
+  // (yet, or a merged copy's view whose edge left with the copy's prior),
+  // or no rotation weighed so.
+  double edge_sigma_t = 0.0;
+  double edge_sigma_r = 0.0;
 };
 
 // A tentative object's edges stay out of the solves until enough

@@ -64,7 +64,13 @@ ObjectEdges::ObjectEdges(const BackendOptions& options,
 void ObjectEdges::Add(int o, ObjectObservation observation) {
   ObjectState& object = *objects_[o];
   object.observations.push_back(std::move(observation));
-  if (object.observations.back().components.empty()) return;
+  ObjectObservation& added = object.observations.back();
+  if (added.components.empty()) {
+    // A merged copy's view that had left the window: its edge went with
+    // the copy's prior.
+    added.edge_sigma_t = added.edge_sigma_r = 0.0;
+    return;
+  }
   AddFactor(o, static_cast<int>(object.observations.size()) - 1);
 }
 
@@ -79,7 +85,18 @@ void ObjectEdges::AddFactor(int o, int i) {
   record.keyframe = observation.keyframe;
   record.object = o;
   record.observation = i;
-  objects_[o]->observations[i].factor = graph_->Add(std::move(record));
+  ObjectObservation& built = objects_[o]->observations[i];
+  built.factor = graph_->Add(std::move(record));
+  // What the edge weighs with, for the noise report (ClassNoiseEstimate::
+  // weights): a continuous view weighs its axis with axis_sigma.
+  const ObjectState& object = *objects_[o];
+  const EdgeSigmas sigmas = BuildNoise(object, built);
+  const bool weighs_rotation =
+      !built.position_only &&
+      (object.type == SymmetryType::kAsymmetric ||
+       (object.type == SymmetryType::kDiscrete && built.angle >= 0));
+  built.edge_sigma_t = sigmas.t;
+  built.edge_sigma_r = weighs_rotation ? sigmas.r : 0.0;
 }
 
 void ObjectEdges::Rebuild(int o) {
@@ -202,17 +219,15 @@ ClassNoise ObjectEdges::AppliedNoise(const std::string& class_name) const {
   return it == applied_noise_.end() ? ClassNoise{} : it->second;
 }
 
-EdgeSigmas ObjectEdges::ObservationNoise(
-    const ObjectState& object, const ObjectObservation& observation) const {
+EdgeSigmas ObjectEdges::BuildNoise(const ObjectState& object,
+                                   const ObjectObservation& observation) const {
   const auto noise = applied_noise_.find(object.class_name);
   if (noise != applied_noise_.end()) {
     return EffectiveNoise(observation, noise->second);
   }
-  if (observation.from_scatter || observation.claimed_t ||
-      observation.claimed_r) {
-    return {observation.sigma_t, observation.sigma_r};
-  }
-  return {options_.hypothesis_sigma_t, options_.hypothesis_sigma_r};
+  // Isotropic per detection (InitialSqrtInfo): one component tells.
+  const Matrix6d& sqrt_info = observation.components.front().sqrt_info;
+  return {1.0 / sqrt_info(0, 0), 1.0 / sqrt_info(3, 3)};
 }
 
 Eigen::Vector3d MeasuredAxis(const ObjectState& object,
@@ -238,9 +253,8 @@ std::unique_ptr<ceres::CostFunction> ObjectEdges::BuildEdge(
   // The components with the effective noise, once the class's noise was
   // updated (detection_noise.h); as the detection gave them before.
   std::vector<PoseComponent> components = observation.components;
-  const auto noise = applied_noise_.find(object->class_name);
-  if (noise != applied_noise_.end()) {
-    const EdgeSigmas sigmas = EffectiveNoise(observation, noise->second);
+  if (applied_noise_.count(object->class_name) > 0) {
+    const EdgeSigmas sigmas = BuildNoise(*object, observation);
     const Matrix6d sqrt_info = IsotropicPoseSqrtInfo(sigmas.t, sigmas.r);
     for (PoseComponent& c : components) c.sqrt_info = sqrt_info;
   }

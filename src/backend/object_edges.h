@@ -85,13 +85,12 @@ class ObjectEdges {
   }
   // The noise applied to the class's edges (empty sigmas: none yet).
   ClassNoise AppliedNoise(const std::string& class_name) const;
-  // The sigmas the edge of `observation` (of `object`) is built with now:
-  // EffectiveNoise once the class has an applied noise, before that the
-  // detection's own (declared or its scatter) or the default
-  // (InitialSqrtInfo). A position-only view's rotation sigma is the
-  // detection's; its edge ignores it (kPositionOnlySigmaR).
-  EdgeSigmas ObservationNoise(const ObjectState& object,
-                              const ObjectObservation& observation) const;
+  // The sigmas the edge of `observation` (of `object`, its hypotheses not
+  // freed) is built with now: EffectiveNoise once the class has an applied
+  // noise, before that the detection's as its components carry them
+  // (InitialSqrtInfo). BuildEdge weighs with these.
+  EdgeSigmas BuildNoise(const ObjectState& object,
+                        const ObjectObservation& observation) const;
   // Every class's applied noise, by name.
   const std::map<std::string, ClassNoise>& applied_noise() const {
     return applied_noise_;

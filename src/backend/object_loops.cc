@@ -225,13 +225,12 @@ double Backend::Impl::PositionSigma(const internal::ObjectState& o) const {
 
 bool Backend::Impl::SameObject(const internal::ObjectState& a,
                                const internal::ObjectState& b) const {
-  double gate = options_.gate_position;
-  if (options_.gate_sigmas > 0.0) {
-    gate = std::min(
-        gate,
-        options_.gate_sigmas * std::hypot(PositionSigma(a), PositionSigma(b)));
-  }
-  if (a.type != b.type || (a.position() - b.position()).norm() > gate) {
+  // gate_position first: the noise's gate takes the class's estimate.
+  const double distance = (a.position() - b.position()).norm();
+  if (a.type != b.type || distance > options_.gate_position) return false;
+  if (options_.gate_sigmas > 0.0 &&
+      distance > options_.gate_sigmas *
+                     std::hypot(PositionSigma(a), PositionSigma(b))) {
     return false;
   }
   switch (a.type) {
@@ -289,6 +288,26 @@ bool Backend::Impl::MergeDuplicatesTheMoveJoined() {
   return MergeRevisitedDuplicates(/*every_object=*/true) > 0;
 }
 
+int Backend::Impl::OneCopyOf(int o) const {
+  const internal::ObjectList& objects = map_.objects();
+  const internal::ObjectState& object = *objects[o];
+  int match = -1;
+  int matches = 0;
+  for (int e : map_.ObjectsOfClass(object.class_name)) {
+    const internal::ObjectState& other = *objects[e];
+    // Two objects of a loaded map were told apart by the run that made it,
+    // whose detections this run does not have.
+    if (e == o || !internal::IsMapped(other) ||
+        (internal::IsLoaded(object) && internal::IsLoaded(other)) ||
+        !SameObject(object, other) || !NeverSeenTogether(object, other)) {
+      continue;
+    }
+    match = e;
+    ++matches;
+  }
+  return matches == 1 ? match : -1;
+}
+
 int Backend::Impl::MergeRevisitedDuplicates(bool every_object) {
   const internal::ObjectList& objects = map_.objects();
   const int n = static_cast<int>(trajectory_.keyframes().size());
@@ -305,20 +324,10 @@ int Backend::Impl::MergeRevisitedDuplicates(bool every_object) {
       continue;
     }
     // The one other object of its class it now is, as association would
-    // have found it, which no keyframe detected together with it.
-    int match = -1;
-    int matches = 0;
-    for (int e : map_.ObjectsOfClass(candidate.class_name)) {
-      const internal::ObjectState& other = *objects[e];
-      if (e == static_cast<int>(r) || !internal::IsMapped(other) ||
-          !SameObject(candidate, other) ||
-          !NeverSeenTogether(candidate, other)) {
-        continue;
-      }
-      match = e;
-      ++matches;
-    }
-    if (matches != 1) continue;
+    // have found it, which no keyframe detected together with it; and it
+    // the one such object of the other.
+    const int match = OneCopyOf(static_cast<int>(r));
+    if (match < 0 || OneCopyOf(match) != static_cast<int>(r)) continue;
     // The later-made one goes into the earlier-made one (its id stays).
     const bool older = std::make_pair(candidate.created_keyframe, r) <
                        std::make_pair(objects[match]->created_keyframe,

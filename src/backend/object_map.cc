@@ -213,16 +213,20 @@ std::vector<ObjectObservation> ObjectMap::MergeInto(int from, int into) {
       object.flips.end(), duplicate.flips.begin(), duplicate.flips.end());
   object.flips_left_behind += duplicate.flips_left_behind;
   object.flip_keyframes += duplicate.flip_keyframes;
-  // The noise samples go on from the duplicate's detections: the front
-  // end's chain has drifted since the object was last seen, and a level
-  // measured against its old mean would be the drift, not the detector.
-  object.chain_position_sum = duplicate.chain_position_sum;
-  object.chain_rotation_sum = duplicate.chain_rotation_sum;
-  object.chain_count = duplicate.chain_count;
-  object.chain_rotation_count = duplicate.chain_rotation_count;
-  object.chain_last_keyframe = duplicate.chain_last_keyframe;
-  object.chain_last_position = duplicate.chain_last_position;
-  object.chain_last_rotation = duplicate.chain_last_rotation;
+  // The noise samples go on from the copy detected last (a revisit's
+  // duplicate, or the earlier object where the two were seen in turn): the
+  // front end's chain has drifted since the other was last seen, and a
+  // level measured against its old mean would be the drift, not the
+  // detector.
+  if (duplicate.chain_last_keyframe > object.chain_last_keyframe) {
+    object.chain_position_sum = duplicate.chain_position_sum;
+    object.chain_rotation_sum = duplicate.chain_rotation_sum;
+    object.chain_count = duplicate.chain_count;
+    object.chain_rotation_count = duplicate.chain_rotation_count;
+    object.chain_last_keyframe = duplicate.chain_last_keyframe;
+    object.chain_last_position = duplicate.chain_last_position;
+    object.chain_last_rotation = duplicate.chain_last_rotation;
+  }
   --statistics_->objects;
   ++statistics_->objects_merged;
   return std::move(duplicate.observations);

@@ -131,8 +131,9 @@ class ObjectMap {
   }
 
   // Loops found from the objects (docs/loop-closure.md): duplicate object
-  // `from` (confirmed, first detected after `into` was last) is merged into
-  // `into` of the same class and type. `from` is gone (its edges and prior
+  // `from` (confirmed, the later-made of two copies of one object) is
+  // merged into `into` of the same class and type; the noise samples go on
+  // from the copy detected last. `from` is gone (its edges and prior
   // retired, its detections and their assignments now `into`'s); the
   // observations it had are returned, for the caller to add to `into`
   // (their factor -1, a discrete one's angle still `from`'s).

@@ -9,6 +9,7 @@
 //     few mapped again for a loop, nothing is closed or merged;
 //   - a second place with the same arrangement of the same classes, reached
 //     with accurate odometry, is not taken for the first.
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -356,8 +357,8 @@ TEST(BackendObjectLoop, ADuplicateOnItsObjectMergesWhenSeenAfterALoop) {
 
 // The chair of the test above, but the camera turns away for good after
 // keyframe 59, before the host closes the loop at keyframe 84: the
-// duplicate made at the revisit is no longer recent and neither copy is
-// detected again. The closure's graph puts the duplicate back onto the
+// duplicate made at the revisit (keyframe 36) is no longer recent and
+// neither copy is detected again. The closure's graph puts the duplicate back onto the
 // chair, and a moved past merges every pair of copies it joined, wherever
 // the camera is: one map object. Merging only a recent duplicate or one
 // detected after the move left two (as on the long scene's tour with seed
@@ -387,7 +388,20 @@ TEST(BackendObjectLoop, CopiesALaterLoopJoinedMergeWhereverTheCameraIs) {
   without.detect_loops = false;
   const std::unique_ptr<Backend> open = ReplayPlaceRun(run, without);
   const std::unique_ptr<Backend> detect = ReplayPlaceRun(run, BackendOptions());
-  EXPECT_EQ(open->Objects().size(), 2u);
+  ASSERT_EQ(open->Objects().size(), 2u);
+  // The duplicate was made more than loop_recent_keyframes before the
+  // closure, and no keyframe from the closure on detected either copy:
+  // the rule for a recent duplicate or one seen now cannot merge them.
+  const ObjectId duplicate = open->Objects()[1].id;
+  int first = 96;
+  int last = -1;
+  for (const DetectionAssignment& a : open->Assignments()) {
+    const int k = static_cast<int>(a.keyframe);
+    if (a.object == duplicate) first = std::min(first, k);
+    if (a.object >= 0) last = std::max(last, k);
+  }
+  EXPECT_LT(first, 84 - BackendOptions().loop_recent_keyframes);
+  EXPECT_LT(last, 84);
   ASSERT_EQ(detect->LoopClosures().size(), 1u);
   EXPECT_TRUE(detect->LoopClosures()[0].moved_past);
   EXPECT_EQ(detect->Statistics().objects_merged, 1);

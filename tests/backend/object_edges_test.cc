@@ -229,6 +229,45 @@ TEST_F(ObjectEdgesTest, EdgesWeighWithTheEstimateUnlessTheDetectionClaims) {
   EXPECT_NEAR(TranslationResidual(2), 0.1 / 0.02, 1e-9);
 }
 
+// Each edge records what it weighs with (the noise report's
+// ClassNoiseEstimate::weights): the translation sigma its residual is
+// divided by, before and after the class's estimate, and the rotation
+// sigma only where the edge weighs the rotation with it.
+TEST_F(ObjectEdgesTest, AnEdgeRecordsTheSigmasItWeighsWith) {
+  edges_.Add(0, Observation(0.05, 0.01, false));
+  edges_.Add(0, Observation(0.05, 0.02, true));
+  ObjectObservation position_only = Observation(0.05, 2.0, false);
+  position_only.position_only = true;
+  edges_.Add(0, position_only);
+  const auto expect_recorded = [&](const std::vector<double>& t,
+                                   const std::vector<double>& r) {
+    for (int i = 0; i < 3; ++i) {
+      const ObjectObservation& o = objects_[0]->observations[i];
+      EXPECT_DOUBLE_EQ(o.edge_sigma_t, t[i]) << i;
+      EXPECT_NEAR(0.1 / TranslationResidual(i), o.edge_sigma_t, 1e-9) << i;
+      EXPECT_DOUBLE_EQ(o.edge_sigma_r, r[i]) << i;
+    }
+  };
+  // Before the estimate: the components' 5 cm and 0.1 rad.
+  expect_recorded({0.05, 0.05, 0.05}, {0.1, 0.1, 0.0});
+  ASSERT_TRUE(edges_.ApplyNoise("box", Noise(0.5, 0.2)));
+  edges_.Rebuild(0);
+  expect_recorded({0.5, 0.02, 2.0}, {0.2, 0.1, 0.0});
+  // A continuous object weighs its axis with axis_sigma, not sigma_r.
+  objects_[0]->type = SymmetryType::kContinuous;
+  objects_[0]->a_o = Eigen::Vector3d::UnitZ();
+  edges_.Rebuild(0);
+  EXPECT_DOUBLE_EQ(objects_[0]->observations[0].edge_sigma_t, 0.5);
+  EXPECT_DOUBLE_EQ(objects_[0]->observations[0].edge_sigma_r, 0.0);
+  // A merged copy's view without its hypotheses gets no edge.
+  ObjectObservation freed = Observation(0.05, 0.05, true);
+  freed.components.clear();
+  freed.edge_sigma_t = 0.05;
+  edges_.Add(0, freed);
+  EXPECT_EQ(objects_[0]->observations[3].factor, -1);
+  EXPECT_EQ(objects_[0]->observations[3].edge_sigma_t, 0.0);
+}
+
 // claimed_noise_tolerance 1.5: a claim scale of 1.4 leaves claimed
 // observations as they claimed (nothing to rebuild), one of 4 weighs them
 // four times their claim and moves the gate's factor; unclaimed ones are

@@ -154,19 +154,24 @@ struct ClassNoiseEstimate {
   // camera factors apply in between); nullopt below noise_min_samples
   // steps or without a sigma_increment.
   std::optional<double> track_ratio;
-  // What the edges of the class's confirmed objects weigh their detections
-  // with now (each as it is built with the class's noise as last applied;
-  // before the class has one, as the detection gave it): how many of the
-  // edges (one per detection, per cluster of one on a discrete object; a
-  // flipped view joins without one) are of detections that declare a sigma
-  // (weighed with it times the claim factor), that are weighed by their
-  // hypotheses' scatter (held to the class's frame-to-frame noise), or that
-  // state neither (the class's estimate against uncalibrated_sigma_*, or
-  // hypothesis_sigma_* before the estimate is applied or without
-  // estimate_noise), and the medians of the sigmas over all of them
-  // (nullopt: none; the rotation's without the views whose rotation
-  // carries no information). Unlike weight_sigma_*, which holds for a
-  // detection that states neither, this is what the edges use.
+  // What the edges of the class's confirmed objects weighed its detections
+  // with, each edge as it was last built (one that left the window with
+  // the noise of its time, which its information in the priors keeps; a
+  // view of a merged copy that had left the window is not counted, its
+  // edge went with the copy's prior): how many edges are of detections
+  // that declare a sigma (weighed with it times the claim factor; one
+  // declared sigma makes the other hypothesis_sigma_*, as the edge has
+  // it), that are weighed by their hypotheses' scatter (held to the
+  // class's frame-to-frame noise), or that state neither (the class's
+  // estimate against uncalibrated_sigma_*; the first ones, built before
+  // the class's first noise update, hypothesis_sigma_*), and the medians of the
+  // sigmas (nullopt: no edge; the rotation's over the edges that weigh the
+  // rotation with sigma_r: asymmetric views and a discrete angle's, not a
+  // continuous view, whose axis has axis_sigma, nor a position-only view).
+  // A detection has one edge, one per cluster on a discrete object, none
+  // when it is a rotation outlier that joins without one. Unlike
+  // weight_sigma_*, which holds for a detection stating neither, this is
+  // what the edges used.
   struct Weights {
     int declared = 0;
     int scatter = 0;

@@ -177,6 +177,17 @@ double PlaceRunRmse(const Backend& backend, const PlaceRun& run) {
   return testing::KeyframePositionRmse(backend, run.T_wc_true);
 }
 
+// A host's loop closure at keyframe k to keyframe 0: their true relative
+// pose, 2 cm and 0.01 rad.
+void AddHostClosureToTheStart(int k, PlaceRun* run) {
+  LoopClosureInput closure;
+  closure.keyframe = 0;
+  closure.T = run->T_wc_true[0].Inverse() * run->T_wc_true[k];
+  closure.sigma_t = 0.02;
+  closure.sigma_r = 0.01;
+  run->keyframes[k].loop_closures.push_back(closure);
+}
+
 // Per scripted object, the map objects its detections were assigned to
 // (refused ones, -1, left out).
 std::map<int, std::set<ObjectId>> ObjectsAssignedPerScripted(
@@ -333,12 +344,7 @@ TEST(BackendObjectLoop, ADuplicateOnItsObjectMergesWhenSeenAfterALoop) {
   PlaceRun run =
       MakePlaceRun(LeaveAndRevisit(96), chair, 2.0 * testing::kDegree, 5);
   // The host's closure, closed after keyframe 84's window solve.
-  LoopClosureInput closure;
-  closure.keyframe = 0;
-  closure.T = run.T_wc_true[0].Inverse() * run.T_wc_true[84];
-  closure.sigma_t = 0.02;
-  closure.sigma_r = 0.01;
-  run.keyframes[84].loop_closures.push_back(closure);
+  AddHostClosureToTheStart(84, &run);
   BackendOptions without;
   without.detect_loops = false;
   const std::unique_ptr<Backend> open = ReplayPlaceRun(run, without);
@@ -378,12 +384,7 @@ TEST(BackendObjectLoop, CopiesALaterLoopJoinedMergeWhereverTheCameraIs) {
     }
   }
   PlaceRun run = MakePlaceRun(views, chair, 2.0 * testing::kDegree, 5);
-  LoopClosureInput closure;
-  closure.keyframe = 0;
-  closure.T = run.T_wc_true[0].Inverse() * run.T_wc_true[84];
-  closure.sigma_t = 0.02;
-  closure.sigma_r = 0.01;
-  run.keyframes[84].loop_closures.push_back(closure);
+  AddHostClosureToTheStart(84, &run);
   BackendOptions without;
   without.detect_loops = false;
   const std::unique_ptr<Backend> open = ReplayPlaceRun(run, without);

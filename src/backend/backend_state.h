@@ -134,6 +134,19 @@ struct UpgradeRecord {
   double angle = 0.0;  // the flips' mean twist angle (rad)
 };
 
+// An object's detections where the front end alone puts them (its chain of
+// keyframe poses; detection_noise.h): running sums for the mean position
+// and rotation, and the last one, for the class's noise samples.
+struct ChainSamples {
+  Eigen::Vector3d position_sum = Eigen::Vector3d::Zero();
+  Eigen::Vector4d rotation_sum = Eigen::Vector4d::Zero();
+  int count = 0;
+  int rotation_count = 0;
+  int last_keyframe = -1;
+  Eigen::Vector3d last_position = Eigen::Vector3d::Zero();
+  std::optional<Eigen::Quaterniond> last_rotation;
+};
+
 struct ObjectState {
   int id = 0;
   ObjectStatus status = ObjectStatus::kConfirmed;
@@ -151,15 +164,7 @@ struct ObjectState {
   // it was; `upgrade` is this run's).
   std::optional<MapObjectEstimate::Upgrade> loaded_upgrade;
   int loaded_detections = 0;  // the saved map's observations of it
-  // Its detections where the front end alone puts them (detection_noise.h):
-  // running sums for the mean position and rotation, and the last one.
-  Eigen::Vector3d chain_position_sum = Eigen::Vector3d::Zero();
-  Eigen::Vector4d chain_rotation_sum = Eigen::Vector4d::Zero();
-  int chain_count = 0;
-  int chain_rotation_count = 0;
-  int chain_last_keyframe = -1;
-  Eigen::Vector3d chain_last_position = Eigen::Vector3d::Zero();
-  std::optional<Eigen::Quaterniond> chain_last_rotation;
+  ChainSamples chain;
   // While tentative: the steps between its detections' front-end positions
   // (the last kMaxTrackSteps; object_track.h). Freed at confirmation.
   std::vector<TrackStep> track;

@@ -77,10 +77,12 @@ void ObjectEdges::Add(int o, ObjectObservation observation) {
 void ObjectEdges::AddFactor(int o, int i) {
   const ObjectObservation& observation = objects_[o]->observations[i];
   FactorRecord record;
+  EdgeSigmas sigmas;
   record.cost = BuildEdge(keyframes_[observation.keyframe].get(),
                           objects_[o].get(),
                           observation,
-                          &record.blocks);
+                          &record.blocks,
+                          &sigmas);
   record.loss = loss_.get();
   record.keyframe = observation.keyframe;
   record.object = o;
@@ -90,7 +92,6 @@ void ObjectEdges::AddFactor(int o, int i) {
   // What the edge weighs with, for the noise report (ClassNoiseEstimate::
   // weights): a continuous view weighs its axis with axis_sigma.
   const ObjectState& object = *objects_[o];
-  const EdgeSigmas sigmas = BuildNoise(object, built);
   const bool weighs_rotation =
       !built.position_only &&
       (object.type == SymmetryType::kAsymmetric ||
@@ -249,13 +250,14 @@ std::unique_ptr<ceres::CostFunction> ObjectEdges::BuildEdge(
     KeyframeState* kf,
     ObjectState* object,
     const ObjectObservation& observation,
-    std::vector<double*>* blocks) const {
+    std::vector<double*>* blocks,
+    EdgeSigmas* sigmas) const {
   // The components with the effective noise, once the class's noise was
   // updated (detection_noise.h); as the detection gave them before.
   std::vector<PoseComponent> components = observation.components;
+  *sigmas = BuildNoise(*object, observation);
   if (applied_noise_.count(object->class_name) > 0) {
-    const EdgeSigmas sigmas = BuildNoise(*object, observation);
-    const Matrix6d sqrt_info = IsotropicPoseSqrtInfo(sigmas.t, sigmas.r);
+    const Matrix6d sqrt_info = IsotropicPoseSqrtInfo(sigmas->t, sigmas->r);
     for (PoseComponent& c : components) c.sqrt_info = sqrt_info;
   }
   if (observation.position_only) {

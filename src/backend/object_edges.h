@@ -85,12 +85,6 @@ class ObjectEdges {
   }
   // The noise applied to the class's edges (empty sigmas: none yet).
   ClassNoise AppliedNoise(const std::string& class_name) const;
-  // The sigmas the edge of `observation` (of `object`, its hypotheses not
-  // freed) is built with now: EffectiveNoise once the class has an applied
-  // noise, before that the detection's as its components carry them
-  // (InitialSqrtInfo). BuildEdge weighs with these.
-  EdgeSigmas BuildNoise(const ObjectState& object,
-                        const ObjectObservation& observation) const;
   // Every class's applied noise, by name.
   const std::map<std::string, ClassNoise>& applied_noise() const {
     return applied_noise_;
@@ -100,11 +94,19 @@ class ObjectEdges {
   // The edge of object o's observation i.
   void AddFactor(int o, int i);
   void Rebuild(int o, int begin, int end);
+  // `sigmas`: what it weighs the detection with (BuildNoise).
   std::unique_ptr<ceres::CostFunction> BuildEdge(
       KeyframeState* keyframe,
       ObjectState* object,
       const ObjectObservation& observation,
-      std::vector<double*>* blocks) const;
+      std::vector<double*>* blocks,
+      EdgeSigmas* sigmas) const;
+  // The sigmas the edge of `observation` (of `object`, its hypotheses not
+  // freed) is built with: EffectiveNoise once the class has an applied
+  // noise, before that the detection's as its components carry them
+  // (InitialSqrtInfo).
+  EdgeSigmas BuildNoise(const ObjectState& object,
+                        const ObjectObservation& observation) const;
 
   const BackendOptions& options_;
   const KeyframeList& keyframes_;

@@ -218,14 +218,8 @@ std::vector<ObjectObservation> ObjectMap::MergeInto(int from, int into) {
   // front end's chain has drifted since the other was last seen, and a
   // level measured against its old mean would be the drift, not the
   // detector.
-  if (duplicate.chain_last_keyframe > object.chain_last_keyframe) {
-    object.chain_position_sum = duplicate.chain_position_sum;
-    object.chain_rotation_sum = duplicate.chain_rotation_sum;
-    object.chain_count = duplicate.chain_count;
-    object.chain_rotation_count = duplicate.chain_rotation_count;
-    object.chain_last_keyframe = duplicate.chain_last_keyframe;
-    object.chain_last_position = duplicate.chain_last_position;
-    object.chain_last_rotation = duplicate.chain_last_rotation;
+  if (duplicate.chain.last_keyframe > object.chain.last_keyframe) {
+    object.chain = duplicate.chain;
   }
   --statistics_->objects;
   ++statistics_->objects_merged;
@@ -427,9 +421,9 @@ void ObjectMap::Turn(int o,
   object.flips_left_behind = left_behind;
   // Its rotation samples of the detector's noise were about the rotation it
   // leaves (detection_noise.h): they start again.
-  object.chain_rotation_sum.setZero();
-  object.chain_rotation_count = 0;
-  object.chain_last_rotation.reset();
+  object.chain.rotation_sum.setZero();
+  object.chain.rotation_count = 0;
+  object.chain.last_rotation.reset();
   ++statistics_->objects_turned;
 }
 
@@ -545,19 +539,19 @@ void ObjectMap::SampleNoise(int o,
   ObjectState& object = *objects_[o];
   const Eigen::Vector3d p = T_wc_chain * t_co;
   const bool sample = object.status == ObjectStatus::kConfirmed;
-  const bool consecutive = object.chain_last_keyframe == k - 1;
-  if (sample && object.chain_count > 0) {
+  const bool consecutive = object.chain.last_keyframe == k - 1;
+  if (sample && object.chain.count > 0) {
     noise_.AddTranslation(
         object.class_name,
         Kind::kLevel,
-        (p - object.chain_position_sum / object.chain_count).norm());
+        (p - object.chain.position_sum / object.chain.count).norm());
     if (consecutive) {
       noise_.AddTranslation(object.class_name,
                             Kind::kIncrement,
-                            (p - object.chain_last_position).norm());
+                            (p - object.chain.last_position).norm());
     }
   }
-  const int j = object.chain_last_keyframe;
+  const int j = object.chain.last_keyframe;
   if (j >= 0 && j < k) {
     // The map alone (its tests) may not hold the keyframes: no growth.
     const KeyframeList& keyframes = graph_->keyframes();
@@ -565,35 +559,35 @@ void ObjectMap::SampleNoise(int o,
                               ? PlaceGrowth(keyframes, j, k, t_co.norm())
                               : 0.0;
     NoteTrackStep(object,
-                  TrackStep{(p - object.chain_last_position).norm(), growth});
+                  TrackStep{(p - object.chain.last_position).norm(), growth});
   }
-  object.chain_position_sum += p;
-  ++object.chain_count;
-  object.chain_last_position = p;
-  object.chain_last_keyframe = k;
+  object.chain.position_sum += p;
+  ++object.chain.count;
+  object.chain.last_position = p;
+  object.chain.last_keyframe = k;
   if (!R_co || object.type != SymmetryType::kAsymmetric) {
-    object.chain_last_rotation.reset();
+    object.chain.last_rotation.reset();
     return;
   }
   Eigen::Quaterniond R = (T_wc_chain.q * *R_co).normalized();
-  if (object.chain_rotation_count > 0) {
+  if (object.chain.rotation_count > 0) {
     const Eigen::Quaterniond mean(
-        Eigen::Vector4d(object.chain_rotation_sum.normalized()));
+        Eigen::Vector4d(object.chain.rotation_sum.normalized()));
     if (sample) {
       noise_.AddRotation(
           object.class_name, Kind::kLevel, mean.angularDistance(R));
-      if (consecutive && object.chain_last_rotation) {
+      if (consecutive && object.chain.last_rotation) {
         noise_.AddRotation(object.class_name,
                            Kind::kIncrement,
-                           object.chain_last_rotation->angularDistance(R));
+                           object.chain.last_rotation->angularDistance(R));
       }
     }
     // The sum averages quaternions of one sign.
     if (mean.coeffs().dot(R.coeffs()) < 0.0) R.coeffs() = -R.coeffs();
   }
-  object.chain_rotation_sum += R.coeffs();
-  ++object.chain_rotation_count;
-  object.chain_last_rotation = R;
+  object.chain.rotation_sum += R.coeffs();
+  ++object.chain.rotation_count;
+  object.chain.last_rotation = R;
 }
 
 }  // namespace symba::internal

@@ -297,7 +297,7 @@ TEST_F(ObjectMapTest, AnObjectMadeFromATurnedDetectionTurnsAndIsNotUpgraded) {
   EXPECT_EQ(map_->ClassFlips("can").flip_keyframes_by_order.at(4), 1);
   EXPECT_EQ(statistics_.objects_turned, 1);
   EXPECT_EQ(statistics_.object_upgrades, 0);
-  EXPECT_EQ(object.chain_rotation_count, 0);
+  EXPECT_EQ(object.chain.rotation_count, 0);
 }
 
 // A second object of a class that its detector turns by pi in half of the

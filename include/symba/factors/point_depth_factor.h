@@ -11,7 +11,7 @@
 #ifndef SYMBA_FACTORS_POINT_DEPTH_FACTOR_H_
 #define SYMBA_FACTORS_POINT_DEPTH_FACTOR_H_
 
-#include <ceres/autodiff_cost_function.h>
+#include <ceres/cost_function.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -39,10 +39,10 @@ class PointDepthFactor {
 
   // `depth` and `sigma` must be positive and finite (the backend validates
   // its input).
-  static ceres::CostFunction* Create(double depth, double sigma) {
-    return new ceres::AutoDiffCostFunction<PointDepthFactor, 1, 4, 3, 3>(
-        new PointDepthFactor(depth, sigma));
-  }
+  // The factor as a Ceres cost function (automatic differentiation), in
+  // src/factors/point_depth_factor.cc: its Jets are compiled once, not in
+  // every file that builds a problem.
+  static ceres::CostFunction* Create(double depth, double sigma);
 
  private:
   double depth_;

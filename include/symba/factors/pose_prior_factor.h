@@ -7,7 +7,7 @@
 #ifndef SYMBA_FACTORS_POSE_PRIOR_FACTOR_H_
 #define SYMBA_FACTORS_POSE_PRIOR_FACTOR_H_
 
-#include <ceres/autodiff_cost_function.h>
+#include <ceres/cost_function.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -32,11 +32,11 @@ class PosePriorFactor {
     return true;
   }
 
+  // The factor as a Ceres cost function (automatic differentiation), in
+  // src/factors/pose_prior_factor.cc: its Jets are compiled once, not in
+  // every file that builds a problem.
   static ceres::CostFunction* Create(const Rigid3d& T_prior,
-                                     const Matrix6d& sqrt_info) {
-    return new ceres::AutoDiffCostFunction<PosePriorFactor, 6, 4, 3>(
-        new PosePriorFactor(T_prior, sqrt_info));
-  }
+                                     const Matrix6d& sqrt_info);
 
  private:
   Rigid3d T_prior_inverse_;

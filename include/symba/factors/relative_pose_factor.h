@@ -10,7 +10,7 @@
 #ifndef SYMBA_FACTORS_RELATIVE_POSE_FACTOR_H_
 #define SYMBA_FACTORS_RELATIVE_POSE_FACTOR_H_
 
-#include <ceres/autodiff_cost_function.h>
+#include <ceres/cost_function.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -42,11 +42,11 @@ class RelativePoseFactor {
     return true;
   }
 
+  // The factor as a Ceres cost function (automatic differentiation), in
+  // src/factors/relative_pose_factor.cc: its Jets are compiled once, not in
+  // every file that builds a problem.
   static ceres::CostFunction* Create(const Rigid3d& T_ab_measured,
-                                     const Matrix6d& sqrt_info) {
-    return new ceres::AutoDiffCostFunction<RelativePoseFactor, 6, 4, 3, 4, 3>(
-        new RelativePoseFactor(T_ab_measured, sqrt_info));
-  }
+                                     const Matrix6d& sqrt_info);
 
  private:
   Rigid3d T_ba_measured_;

@@ -12,7 +12,7 @@
 #ifndef SYMBA_FACTORS_REPROJECTION_FACTOR_H_
 #define SYMBA_FACTORS_REPROJECTION_FACTOR_H_
 
-#include <ceres/autodiff_cost_function.h>
+#include <ceres/cost_function.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -50,12 +50,12 @@ class ReprojectionFactor {
     return true;
   }
 
+  // The factor as a Ceres cost function (automatic differentiation), in
+  // src/factors/reprojection_factor.cc: its Jets are compiled once, not in
+  // every file that builds a problem.
   static ceres::CostFunction* Create(const PinholeIntrinsics& intrinsics,
                                      const Eigen::Vector2d& uv_measured,
-                                     const Eigen::Matrix2d& sqrt_info) {
-    return new ceres::AutoDiffCostFunction<ReprojectionFactor, 2, 4, 3, 3>(
-        new ReprojectionFactor(intrinsics, uv_measured, sqrt_info));
-  }
+                                     const Eigen::Matrix2d& sqrt_info);
 
  private:
   PinholeIntrinsics intrinsics_;

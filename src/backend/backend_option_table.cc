@@ -6,6 +6,10 @@
 namespace symba {
 namespace {
 
+// A noise sigma: its information and square-root information stay finite
+// (backend_options.h).
+OptionRange NoiseSigma() { return Between(kMinNoiseSigma, kMaxNoiseSigma); }
+
 OptionTable<MixtureOptions> MakeMixtureTable() {
   using O = MixtureOptions;
   return {
@@ -89,13 +93,13 @@ void AppendObjectEdgeOptions(OptionTable<BackendOptions>* table) {
           DoubleOption<O>("hypothesis_sigma_t",
                           &O::hypothesis_sigma_t,
                           "m",
-                          Positive(),
+                          NoiseSigma(),
                           "hypothesis translation noise when a detection "
                           "gives none"),
           DoubleOption<O>("hypothesis_sigma_r",
                           &O::hypothesis_sigma_r,
                           "rad",
-                          Positive(),
+                          NoiseSigma(),
                           "hypothesis rotation noise when a detection gives "
                           "none"),
           DoubleOption<O>("gamma",
@@ -106,7 +110,7 @@ void AppendObjectEdgeOptions(OptionTable<BackendOptions>* table) {
           DoubleOption<O>("axis_sigma",
                           &O::axis_sigma,
                           "rad",
-                          Positive(),
+                          NoiseSigma(),
                           "noise of a measured axis"),
           BoolOption<O>("merge_modes",
                         &O::merge_modes,
@@ -134,18 +138,18 @@ void AppendCameraAndGateOptions(OptionTable<BackendOptions>* table) {
           DoubleOption<O>("frontend_sigma_t",
                           &O::frontend_sigma_t,
                           "m",
-                          Positive(),
+                          NoiseSigma(),
                           "translation noise of the front end's relative "
                           "motion"),
           DoubleOption<O>("frontend_sigma_r",
                           &O::frontend_sigma_r,
                           "rad",
-                          Positive(),
+                          NoiseSigma(),
                           "rotation noise of the front end's relative motion"),
           DoubleOption<O>("point_sigma_px",
                           &O::point_sigma_px,
                           "px",
-                          Positive(),
+                          NoiseSigma(),
                           "reprojection noise"),
           DoubleOption<O>("point_loss_scale",
                           &O::point_loss_scale,
@@ -250,13 +254,13 @@ void AppendRealDetectorOptions(OptionTable<BackendOptions>* table) {
           DoubleOption<O>("uncalibrated_sigma_t",
                           &O::uncalibrated_sigma_t,
                           "m",
-                          Positive(),
+                          NoiseSigma(),
                           "with estimate_noise: least translation noise of a "
                           "detection without sigmas"),
           DoubleOption<O>("uncalibrated_sigma_r",
                           &O::uncalibrated_sigma_r,
                           "rad",
-                          Positive(),
+                          NoiseSigma(),
                           "with estimate_noise: least rotation noise of a "
                           "detection without sigmas"),
           IntOption<O>("scatter_min_hypotheses",
@@ -339,12 +343,12 @@ void AppendLoopOptions(OptionTable<BackendOptions>* table) {
           DoubleOption<O>("loop_sigma_t",
                           &O::loop_sigma_t,
                           "m",
-                          Positive(),
+                          NoiseSigma(),
                           "position noise of a loop found from objects"),
           DoubleOption<O>("loop_sigma_r",
                           &O::loop_sigma_r,
                           "rad",
-                          Positive(),
+                          NoiseSigma(),
                           "rotation noise of a loop found from objects"),
       });
 }

@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include "symba/backend/backend_options.h"
+#include "symba/io/format_double.h"
+
 namespace symba::internal {
 
 Status CheckPose(const Rigid3d& T, const std::string& what) {
@@ -16,8 +19,9 @@ Status CheckPose(const Rigid3d& T, const std::string& what) {
 }
 
 Status CheckSigma(const std::optional<double>& sigma, const std::string& what) {
-  if (sigma && !(std::isfinite(*sigma) && *sigma > 0.0)) {
-    return Status::Error(what + " must be positive and finite");
+  if (sigma && !(*sigma >= kMinNoiseSigma && *sigma <= kMaxNoiseSigma)) {
+    return Status::Error(what + " must be in [1e-9, 1e9], got " +
+                         FormatDouble(*sigma));
   }
   return Status::Ok();
 }

@@ -24,7 +24,7 @@ struct PreviousKeyframe {
 
 // A finite pose whose quaternion is unit within kUnitTolerance.
 Status CheckPose(const Rigid3d& T, const std::string& what);
-// Absent, or positive and finite.
+// Absent, or in [kMinNoiseSigma, kMaxNoiseSigma].
 Status CheckSigma(const std::optional<double>& sigma, const std::string& what);
 
 // Checks `input` against the previous keyframe (none for the first): ids

@@ -21,9 +21,6 @@
 namespace symba {
 namespace {
 
-constexpr double kMinLoopSigma = 1e-9;  // m or rad
-constexpr double kMaxLoopSigma = 1e9;
-
 double AngleDeg(const Eigen::Quaterniond& q) {
   return kDegreesPerRadian * 2.0 *
          std::atan2(q.vec().norm(), std::abs(q.normalized().w()));
@@ -47,7 +44,7 @@ Status Backend::Impl::CheckLoopClosure(int k,
   // Its information 1 / sigma^2 must be a positive finite number too.
   for (const auto& [sigma, name] :
        {std::pair{closure.sigma_t, "sigma_t"}, {closure.sigma_r, "sigma_r"}}) {
-    if (!(sigma >= kMinLoopSigma && sigma <= kMaxLoopSigma)) {
+    if (!(sigma >= kMinNoiseSigma && sigma <= kMaxNoiseSigma)) {
       return Status::Error(prefix + ": " + name + " must be in [1e-9, 1e9]");
     }
   }

@@ -224,7 +224,14 @@ EdgeSigmas ObjectEdges::BuildNoise(const ObjectState& object,
                                    const ObjectObservation& observation) const {
   const auto noise = applied_noise_.find(object.class_name);
   if (noise != applied_noise_.end()) {
-    return EffectiveNoise(observation, noise->second);
+    // Within the range of a given sigma (backend_options.h), whatever a
+    // loaded map's noise or claim factors or an estimate from extreme
+    // detections made of it: its square-root information stays finite and
+    // invertible.
+    EdgeSigmas sigmas = EffectiveNoise(observation, noise->second);
+    sigmas.t = std::clamp(sigmas.t, kMinNoiseSigma, kMaxNoiseSigma);
+    sigmas.r = std::clamp(sigmas.r, kMinNoiseSigma, kMaxNoiseSigma);
+    return sigmas;
   }
   // Isotropic per detection (InitialSqrtInfo): one component tells.
   const Matrix6d& sqrt_info = observation.components.front().sqrt_info;

@@ -12,6 +12,7 @@
 #include "import/bop_files.h"
 #include "import/bop_source.h"
 #include "io/text_file.h"
+#include "symba/backend/backend_options.h"
 #include "symba/io/file_output.h"
 #include "symba/io/log_file.h"
 #include "symba/io/tum_trajectory.h"
@@ -140,9 +141,9 @@ Status CheckOptions(const BopImportOptions& o) {
       {"detection sigma_t", o.detection_sigma_t},
       {"detection sigma_r", o.detection_sigma_r}};
   for (const auto& [name, sigma] : sigmas) {
-    if (sigma && !(*sigma > 0.0 && std::isfinite(*sigma))) {
+    if (sigma && !(*sigma >= kMinNoiseSigma && *sigma <= kMaxNoiseSigma)) {
       return Status::Error(std::string("options: ") + name +
-                           ": must be positive and finite, got " +
+                           ": must be in [1e-9, 1e9], got " +
                            internal::Approx(*sigma));
     }
   }

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "io/text_file.h"
+#include "symba/backend/backend_options.h"
 #include "symba/io/file_output.h"
 #include "symba/io/log_file.h"
 #include "symba/io/tum_trajectory.h"
@@ -46,9 +47,10 @@ Status ReadInput(const std::string& path,
   return Status::Ok();
 }
 
-Status CheckPositive(const char* name, double value) {
-  if (!(value > 0.0) || !std::isfinite(value)) {
-    return Status::Error(std::string(name) + ": must be positive, got " +
+// A sigma the backend takes (symba/backend/backend_options.h).
+Status CheckSigma(const char* name, double value) {
+  if (!(value >= kMinNoiseSigma && value <= kMaxNoiseSigma)) {
+    return Status::Error(std::string(name) + ": must be in [1e-9, 1e9], got " +
                          Approx(value));
   }
   return Status::Ok();
@@ -59,15 +61,15 @@ Status CheckOptions(const TumImportOptions& options) {
     return Status::Error("stride: must be at least 1, got " +
                          std::to_string(options.stride));
   }
-  Status status = CheckPositive("odometry sigma_t", options.odometry_sigma_t);
+  Status status = CheckSigma("odometry sigma_t", options.odometry_sigma_t);
   if (status.ok()) {
-    status = CheckPositive("odometry sigma_r", options.odometry_sigma_r);
+    status = CheckSigma("odometry sigma_r", options.odometry_sigma_r);
   }
   if (status.ok() && options.detection_sigma_t) {
-    status = CheckPositive("detection sigma_t", *options.detection_sigma_t);
+    status = CheckSigma("detection sigma_t", *options.detection_sigma_t);
   }
   if (status.ok() && options.detection_sigma_r) {
-    status = CheckPositive("detection sigma_r", *options.detection_sigma_r);
+    status = CheckSigma("detection sigma_r", *options.detection_sigma_r);
   }
   if (status.ok() && !(options.time_tolerance >= 0.0 &&
                        std::isfinite(options.time_tolerance))) {

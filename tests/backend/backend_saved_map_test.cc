@@ -424,6 +424,44 @@ MapObjectEstimate SavedTable(ObjectId id) {
   return o;
 }
 
+// A map's noise may hold any positive sigma and any claim factor of at
+// least 1; the edges weigh within [kMinNoiseSigma, kMaxNoiseSigma]. Found by
+// hand: a map whose claim factor was 1e300 aborted the run in the
+// detection's edge (its square-root information was singular).
+TEST(BackendSavedMap, ExtremeLoadedNoiseStillBuildsEveryEdge) {
+  for (const double extreme : {1e-300, 1e300}) {
+    SavedMap map;
+    map.objects = {SavedChair(0)};
+    map.noise = {{"chair", extreme, extreme, extreme, extreme, 1e300, 1e300}};
+    std::unique_ptr<Backend> backend;
+    ASSERT_TRUE(
+        Backend::Create(BackendOptions(), std::nullopt, {}, &backend).ok());
+    ASSERT_TRUE(backend->LoadMap(map).ok());
+    const Rigid3d T_wo = SavedChair(0).poses[0];
+    for (int k = 0; k < 4; ++k) {
+      KeyframeInput keyframe;
+      keyframe.id = k;
+      keyframe.timestamp = 0.1 * k;
+      const Rigid3d T_wc(Eigen::Quaterniond::Identity(),
+                         Eigen::Vector3d(0.05 * k, 0.0, -2.0));
+      keyframe.T_wc = T_wc;
+      DetectionInput detection;
+      detection.class_name = "chair";
+      detection.hypotheses.push_back({T_wc.Inverse() * T_wo, 1.0});
+      if (k % 2 == 0) {  // declared (times the factor), else the estimate
+        detection.sigma_t = 0.05;
+        detection.sigma_r = 0.1;
+      }
+      keyframe.detections.push_back(detection);
+      ASSERT_TRUE(backend->AddKeyframe(keyframe).ok()) << k;
+      ASSERT_TRUE(backend->OptimizeWindow().ok()) << k;
+    }
+    const std::vector<MapObjectEstimate> objects = backend->Objects();
+    ASSERT_EQ(objects.size(), 1u) << extreme;
+    EXPECT_NEAR((objects[0].t_wo - T_wo.t).norm(), 0.0, 1e-6) << extreme;
+  }
+}
+
 TEST(BackendSavedMap, LoadedObjectsKeepIdsPosesAndCovariances) {
   SavedMap map;
   map.objects = {SavedTable(5), SavedChair(2)};

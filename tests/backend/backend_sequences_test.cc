@@ -1434,6 +1434,23 @@ TEST(BackendInput, RejectsBadKeyframesAndAddsNothing) {
   nan_second.detections[1].id = "6/1";
   ExpectRejected(backend.get(), nan_second, "detection 6/1");
 
+  // Positive and finite is not enough for a sigma: 1 / sigma^2 and the
+  // determinant of its 6 x 6 square-root information must be finite and
+  // non-zero (a sigma of 1e-100 or 1e200 used to abort in the edge's check).
+  for (const double sigma : {1e-100, 1e-10, 2e9, 1e200}) {
+    KeyframeInput tiny_or_huge = ValidKeyframe(6);
+    tiny_or_huge.detections[0].sigma_t = sigma;
+    ExpectRejected(
+        backend.get(), tiny_or_huge, "sigma_t must be in [1e-9, 1e9]");
+    tiny_or_huge.detections[0].sigma_t.reset();
+    tiny_or_huge.detections[0].sigma_r = sigma;
+    ExpectRejected(
+        backend.get(), tiny_or_huge, "sigma_r must be in [1e-9, 1e9]");
+  }
+  KeyframeInput tiny_odometry = ValidKeyframe(6);
+  tiny_odometry.odometry = Odometry{Rigid3d(), 1e-300, 0.01};
+  ExpectRejected(backend.get(), tiny_odometry, "odometry sigma_t must be in");
+
   KeyframeInput with_points = ValidKeyframe(6);
   PointObservation point;
   point.id = 7;

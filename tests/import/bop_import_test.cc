@@ -423,7 +423,7 @@ TEST_F(BopImportTest, BadOptionsAndOutputsAreNamed) {
   options_.gate.reset();
   options_.detection_sigma_r = -1.0;
   EXPECT_EQ(Failure(),
-            "options: detection sigma_r: must be positive and finite, got -1");
+            "options: detection sigma_r: must be in [1e-9, 1e9], got -1");
   options_.detection_sigma_r.reset();
 
   options_.results = Write("two_scenes.csv",

@@ -208,13 +208,13 @@ TEST_F(TumImportTest, InvalidOptions) {
   ExpectFailure("stride: must be at least 1, got 0");
   options_.stride = 1;
   options_.odometry_sigma_t = 0.0;
-  ExpectFailure("odometry sigma_t: must be positive, got 0");
+  ExpectFailure("odometry sigma_t: must be in [1e-9, 1e9], got 0");
   options_.odometry_sigma_t = 0.1;
   options_.odometry_sigma_r = -1.0;
-  ExpectFailure("odometry sigma_r: must be positive, got -1");
+  ExpectFailure("odometry sigma_r: must be in [1e-9, 1e9], got -1");
   options_.odometry_sigma_r = 0.1;
   options_.detection_sigma_r = 0.0;
-  ExpectFailure("detection sigma_r: must be positive, got 0");
+  ExpectFailure("detection sigma_r: must be in [1e-9, 1e9], got 0");
   options_.detection_sigma_r.reset();
   options_.objects[0].class_name = "";
   ExpectFailure(box_ + ": the object's class name is empty");

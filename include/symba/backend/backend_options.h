@@ -12,6 +12,14 @@
 
 namespace symba {
 
+// Every noise standard deviation symba is given (a detection's or the
+// odometry's sigma_t / sigma_r, a loop closure's, the sigma options) must
+// lie in [kMinNoiseSigma, kMaxNoiseSigma] (m, rad or px): its information
+// 1 / sigma^2, and the determinant of a 6 x 6 square-root information built
+// from it, must be finite and non-zero.
+inline constexpr double kMinNoiseSigma = 1e-9;
+inline constexpr double kMaxNoiseSigma = 1e9;
+
 // The three methods of the paper's Table I. Everything but the method runs
 // the same code.
 enum class Method {

@@ -15,6 +15,10 @@ Status CheckPose(const Rigid3d& T, const std::string& what) {
     return Status::Error(what + ": quaternion is not unit (|q| = " +
                          std::to_string(T.q.norm()) + ")");
   }
+  if (!(T.t.cwiseAbs().maxCoeff() <= kMaxCoordinate)) {
+    return Status::Error(what + ": translation beyond 1e9 m (" +
+                         FormatDouble(T.t.cwiseAbs().maxCoeff()) + ")");
+  }
   return Status::Ok();
 }
 
@@ -101,6 +105,10 @@ Status ValidatePoints(const KeyframeInput& input,
     const std::string what = where + ": point " + std::to_string(point.id);
     if (!point.uv.allFinite()) {
       return Status::Error(what + ": uv is not finite");
+    }
+    if (!(point.uv.cwiseAbs().maxCoeff() <= kMaxCoordinate)) {
+      return Status::Error(what + ": uv beyond 1e9 px (" +
+                           FormatDouble(point.uv.cwiseAbs().maxCoeff()) + ")");
     }
     if (point.depth && !(std::isfinite(*point.depth) && *point.depth > 0.0)) {
       return Status::Error(what + ": depth must be positive and finite");

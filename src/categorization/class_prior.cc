@@ -34,6 +34,14 @@ Status ClassPrior::Validate() const {
     return Status::Error("class prior axis " + AxisText(axis_o) +
                          " is not finite");
   }
+  // A direction, normalised where it is used: its squared norm must neither
+  // overflow nor underflow (zero: no axis given).
+  const double norm = axis_o.norm();
+  if (!axis_o.isZero(0.0) &&
+      !(norm >= kMinPriorAxisNorm && norm <= kMaxPriorAxisNorm)) {
+    return Status::Error("class prior axis " + AxisText(axis_o) +
+                         " must be zero or have a norm in [1e-100, 1e100]");
+  }
   if (order < 0 || order == 1) {
     return Status::Error("class prior order " + std::to_string(order) +
                          " is neither 0 (unknown) nor >= 2");

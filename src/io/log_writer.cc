@@ -218,6 +218,11 @@ class LogWriter::Impl {
           return fail(path + ".axis",
                       "an asymmetric class has no symmetry axis");
         }
+        const double norm = prior.axis_o.norm();
+        if (has_axis &&
+            !(norm >= kMinPriorAxisNorm && norm <= kMaxPriorAxisNorm)) {
+          return fail(path + ".axis", "must have a norm in [1e-100, 1e100]");
+        }
         json.Key(name).BeginObject().Member("symmetry",
                                             ToString(prior.symmetry));
         if (discrete) json.Member("order", prior.order);

@@ -1447,6 +1447,15 @@ TEST(BackendInput, RejectsBadKeyframesAndAddsNothing) {
     ExpectRejected(
         backend.get(), tiny_or_huge, "sigma_r must be in [1e-9, 1e9]");
   }
+  // Finite coordinates whose squares are not: every solve would fail.
+  KeyframeInput far_hypothesis = ValidKeyframe(6);
+  far_hypothesis.detections[0].hypotheses[0].T_co.t.x() = 2e9;
+  ExpectRejected(backend.get(), far_hypothesis, "translation beyond 1e9 m");
+  KeyframeInput far_step = ValidKeyframe(6);
+  far_step.odometry = Odometry{Rigid3d(), 0.01, 0.01};
+  far_step.odometry->T_prev_cur.t.z() = -1e300;
+  ExpectRejected(backend.get(), far_step, "odometry: translation beyond 1e9 m");
+
   KeyframeInput tiny_odometry = ValidKeyframe(6);
   tiny_odometry.odometry = Odometry{Rigid3d(), 1e-300, 0.01};
   ExpectRejected(backend.get(), tiny_odometry, "odometry sigma_t must be in");

@@ -59,6 +59,25 @@ TEST(ClassPrior, NonFiniteAxisIsAnError) {
   }
 }
 
+// Finite but unusable: its norm overflows or underflows when squared (a
+// header axis of [1e300, 1e300, 0] used to abort the replay).
+TEST(ClassPrior, AnAxisWhoseNormCannotBeTakenIsAnError) {
+  for (const Eigen::Vector3d& bad : {Eigen::Vector3d(1e300, 1e300, 0.0),
+                                     Eigen::Vector3d(0.0, 0.0, 1e101),
+                                     Eigen::Vector3d(1e-300, 0.0, 0.0),
+                                     Eigen::Vector3d(0.0, 9e-101, 0.0)}) {
+    const Status status = Prior(SymmetryType::kContinuous, 0, bad).Validate();
+    EXPECT_FALSE(status.ok()) << bad.transpose();
+    EXPECT_THAT(status.message(),
+                HasSubstr("must be zero or have a norm in [1e-100, 1e100]"));
+  }
+  for (const Eigen::Vector3d& good :
+       {Eigen::Vector3d(0.0, 0.0, 1e100), Eigen::Vector3d(1e-100, 0.0, 0.0)}) {
+    EXPECT_TRUE(Prior(SymmetryType::kContinuous, 0, good).Validate().ok())
+        << good.transpose();
+  }
+}
+
 TEST(ClassPrior, UnknownSymmetryIsAnError) {
   const Status status =
       Prior(static_cast<SymmetryType>(7), 0, Eigen::Vector3d::Zero())

@@ -538,6 +538,8 @@ const MalformedCase kMalformedCases[] = {
      "1: classes.table.axis: expected an array of 3 numbers, got 2 elements"},
     {"header_class_axis_zero",
      "1: classes.bowl.axis: must not be the zero vector"},
+    {"header_class_axis_norm_overflows",
+     "1: classes.bowl.axis: must have a norm in [1e-100, 1e100]"},
     {"header_class_bad_symmetry",
      "1: classes.bowl.symmetry: unknown symmetry \"round\" (expected \"asymmetric\", \"discrete\" or \"continuous\")"},
     {"header_class_discrete_without_order",
@@ -734,6 +736,11 @@ TEST(LogWriter, RefusesAnInvalidHeader) {
             "out: header: classes.table.order: must be an integer from 2 to "
             "1000000, got 0");
   EXPECT_EQ(writer, nullptr);
+  header.classes["table"].order = 2;
+  header.classes["table"].axis_o = Eigen::Vector3d(1e300, 1e300, 0.0);
+  EXPECT_EQ(LogWriter::OpenStream(&text, "out", header, &writer).message(),
+            "out: header: classes.table.axis: must have a norm in [1e-100, "
+            "1e100]");
   header.classes.clear();
   header.camera = PinholeIntrinsics{-1.0, 1.0, 0.0, 0.0};
   EXPECT_EQ(LogWriter::OpenStream(&text, "out", header, &writer).message(),

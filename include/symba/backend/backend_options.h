@@ -19,6 +19,10 @@ namespace symba {
 // from it, must be finite and non-zero.
 inline constexpr double kMinNoiseSigma = 1e-9;
 inline constexpr double kMaxNoiseSigma = 1e9;
+// Every translation (a pose's, m) and pixel coordinate (px) symba is given
+// must be within +-kMaxCoordinate: the squares of residuals built from
+// them stay finite (an odometry step of 1e300 m made every solve fail).
+inline constexpr double kMaxCoordinate = 1e9;
 
 // The three methods of the paper's Table I. Everything but the method runs
 // the same code.

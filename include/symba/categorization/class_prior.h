@@ -10,14 +10,19 @@
 
 namespace symba {
 
+inline constexpr double kMinPriorAxisNorm = 1e-100;
+inline constexpr double kMaxPriorAxisNorm = 1e100;
+
 struct ClassPrior {
   SymmetryType symmetry = SymmetryType::kAsymmetric;
   int order = 0;  // discrete: symmetry order (>= 2); 0 = unknown
-  // Symmetry axis in the object frame; zero = unknown. Need not be unit.
+  // Symmetry axis in the object frame; zero = unknown. Need not be unit,
+  // but its norm must be in [kMinPriorAxisNorm, kMaxPriorAxisNorm].
   Eigen::Vector3d axis_o = Eigen::Vector3d::Zero();
 
   // OK, or what is wrong: a symmetry that is none of the three types, an
-  // order of 1 or below 0, or a non-finite axis. Categorize() checks it on
+  // order of 1 or below 0, a non-finite axis or one whose squared norm
+  // would overflow or underflow. Categorize() checks it on
   // every call; a caller that checked it once may use the prior freely.
   Status Validate() const;
 };

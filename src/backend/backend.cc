@@ -432,10 +432,12 @@ Status Backend::Create(const BackendOptions& options,
   if (!status.ok()) return status;
   if (intrinsics) {
     const PinholeIntrinsics& k = *intrinsics;
-    if (!(std::isfinite(k.fx) && std::isfinite(k.fy) && k.fx > 0.0 &&
-          k.fy > 0.0 && std::isfinite(k.cx) && std::isfinite(k.cy))) {
+    if (!(k.fx > 0.0 && k.fx <= kMaxCoordinate && k.fy > 0.0 &&
+          k.fy <= kMaxCoordinate && std::abs(k.cx) <= kMaxCoordinate &&
+          std::abs(k.cy) <= kMaxCoordinate)) {
       return Status::Error(
-          "camera intrinsics: fx, fy must be positive, all finite");
+          "camera intrinsics: fx, fy must be in (0, 1e9] and cx, cy within "
+          "+-1e9");
     }
   }
   // A bad prior must fail here, not in AddKeyframe after the keyframe was

@@ -88,8 +88,9 @@ Status ValidateDetection(const DetectionInput& det, const std::string& what) {
     status = CheckPose(det.hypotheses[j].T_co, hyp);
     if (!status.ok()) return status;
     const double w = det.hypotheses[j].weight;
-    if (!(std::isfinite(w) && w > 0.0)) {
-      return Status::Error(hyp + ": weight must be positive and finite");
+    // Weights are relative; their sums must stay finite.
+    if (!(w > 0.0 && w <= kMaxHypothesisWeight)) {
+      return Status::Error(hyp + ": weight must be positive and at most 1e100");
     }
   }
   return Status::Ok();

@@ -1474,6 +1474,27 @@ TEST(BackendInput, RejectsBadKeyframesAndAddsNothing) {
   EXPECT_TRUE(backend->OptimizeWindow().ok());
 }
 
+// A principal point of 1e300 px is finite, but every reprojection's square
+// overflowed and every solve failed.
+TEST(BackendInput, IntrinsicsBeyondTheirRangeAreRejectedAtCreate) {
+  std::unique_ptr<Backend> backend;
+  for (const PinholeIntrinsics& bad :
+       {PinholeIntrinsics{500.0, 500.0, 1e300, 240.0},
+        PinholeIntrinsics{500.0, 500.0, 320.0, -2e9},
+        PinholeIntrinsics{2e9, 500.0, 320.0, 240.0},
+        PinholeIntrinsics{500.0, 0.0, 320.0, 240.0}}) {
+    const Status status = Backend::Create(BackendOptions(), bad, {}, &backend);
+    EXPECT_THAT(status.message(),
+                HasSubstr("fx, fy must be in (0, 1e9] and cx, cy within"));
+    EXPECT_EQ(backend, nullptr);
+  }
+  EXPECT_TRUE(Backend::Create(BackendOptions(),
+                              PinholeIntrinsics{1e9, 1e9, -1e9, 1e9},
+                              {},
+                              &backend)
+                  .ok());
+}
+
 TEST(BackendInput, OptionsAreValidated) {
   BackendOptions options;
   EXPECT_TRUE(options.Validate().ok());

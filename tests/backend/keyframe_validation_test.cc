@@ -59,6 +59,13 @@ TEST(KeyframeValidation, ValuesBeyondTheRangesAreRefusedWithTheirPlace) {
               HasSubstr("sigma_t must be in [1e-9, 1e9], got 2e+09"));
   EXPECT_EQ(Message(WithPointAndDetection(320.0, 0.05, -1e300)),
             "keyframe 3: T_wc: translation beyond 1e9 m (1e+300)");
+  KeyframeInput heavy = WithPointAndDetection(320.0, 0.05, 1.0);
+  heavy.detections[0].hypotheses[0].weight = kMaxHypothesisWeight;
+  EXPECT_TRUE(ValidateKeyframe(heavy, std::nullopt, true).ok());
+  heavy.detections[0].hypotheses[0].weight = 1e300;
+  EXPECT_THAT(Message(heavy),
+              HasSubstr("hypothesis 0: weight must be positive and at most "
+                        "1e100"));
 }
 
 }  // namespace

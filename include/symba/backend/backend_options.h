@@ -23,6 +23,9 @@ inline constexpr double kMaxNoiseSigma = 1e9;
 // must be within +-kMaxCoordinate: the squares of residuals built from
 // them stay finite (an odometry step of 1e300 m made every solve fail).
 inline constexpr double kMaxCoordinate = 1e9;
+// A hypothesis's weight (relative to the detection's others) is at most this
+// (1e300 overflowed the sums of the mode merging).
+inline constexpr double kMaxHypothesisWeight = 1e100;
 
 // The three methods of the paper's Table I. Everything but the method runs
 // the same code.

@@ -23,7 +23,7 @@ Status CheckPose(const Rigid3d& T, const std::string& what) {
 }
 
 Status CheckSigma(const std::optional<double>& sigma, const std::string& what) {
-  if (sigma && !(*sigma >= kMinNoiseSigma && *sigma <= kMaxNoiseSigma)) {
+  if (sigma && !IsUsableNoiseSigma(*sigma)) {
     return Status::Error(what + " must be in [1e-9, 1e9], got " +
                          FormatDouble(*sigma));
   }

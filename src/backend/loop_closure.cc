@@ -42,13 +42,9 @@ Status Backend::Impl::CheckLoopClosure(int k,
   Status status = internal::CheckPose(closure.T, prefix + ": T");
   if (!status.ok()) return status;
   // Its information 1 / sigma^2 must be a positive finite number too.
-  for (const auto& [sigma, name] :
-       {std::pair{closure.sigma_t, "sigma_t"}, {closure.sigma_r, "sigma_r"}}) {
-    if (!(sigma >= kMinNoiseSigma && sigma <= kMaxNoiseSigma)) {
-      return Status::Error(prefix + ": " + name + " must be in [1e-9, 1e9]");
-    }
-  }
-  return Status::Ok();
+  status = internal::CheckSigma(closure.sigma_t, prefix + ": sigma_t");
+  if (!status.ok()) return status;
+  return internal::CheckSigma(closure.sigma_r, prefix + ": sigma_r");
 }
 
 Status Backend::Impl::AddLoopClosure(KeyframeId keyframe,

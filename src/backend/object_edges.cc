@@ -198,9 +198,18 @@ bool ObjectEdges::ApplyNoise(const std::string& class_name,
 
 EdgeSigmas EffectiveNoise(const ObjectObservation& observation,
                           const ClassNoise& applied) {
+  // Held within the range of a given sigma (backend_options.h), whatever a
+  // loaded map's noise or claim factors or an estimate from extreme
+  // detections made of it: the edges' and the keyframe graph's information
+  // stays finite and invertible.
+  auto usable = [](double sigma) {
+    return std::clamp(sigma, kMinNoiseSigma, kMaxNoiseSigma);
+  };
   if (observation.from_scatter) {
-    return {EffectiveSigma(observation.sigma_t, false, applied.white_sigma_t),
-            EffectiveSigma(observation.sigma_r, false, applied.white_sigma_r)};
+    return {usable(EffectiveSigma(
+                observation.sigma_t, false, applied.white_sigma_t)),
+            usable(EffectiveSigma(
+                observation.sigma_r, false, applied.white_sigma_r))};
   }
   // A claim times its class's claim factor (ApplyNoise); else the larger
   // of the floor and the estimate.
@@ -212,7 +221,7 @@ EdgeSigmas EffectiveNoise(const ObjectObservation& observation,
       observation.claimed_r
           ? observation.sigma_r * applied.claim_scale_r.value_or(1.0)
           : EffectiveSigma(observation.sigma_r, false, applied.sigma_r);
-  return {sigma_t, sigma_r};
+  return {usable(sigma_t), usable(sigma_r)};
 }
 
 ClassNoise ObjectEdges::AppliedNoise(const std::string& class_name) const {
@@ -224,14 +233,7 @@ EdgeSigmas ObjectEdges::BuildNoise(const ObjectState& object,
                                    const ObjectObservation& observation) const {
   const auto noise = applied_noise_.find(object.class_name);
   if (noise != applied_noise_.end()) {
-    // Within the range of a given sigma (backend_options.h), whatever a
-    // loaded map's noise or claim factors or an estimate from extreme
-    // detections made of it: its square-root information stays finite and
-    // invertible.
-    EdgeSigmas sigmas = EffectiveNoise(observation, noise->second);
-    sigmas.t = std::clamp(sigmas.t, kMinNoiseSigma, kMaxNoiseSigma);
-    sigmas.r = std::clamp(sigmas.r, kMinNoiseSigma, kMaxNoiseSigma);
-    return sigmas;
+    return EffectiveNoise(observation, noise->second);
   }
   // Isotropic per detection (InitialSqrtInfo): one component tells.
   const Matrix6d& sqrt_info = observation.components.front().sqrt_info;

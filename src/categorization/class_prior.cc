@@ -36,9 +36,7 @@ Status ClassPrior::Validate() const {
   }
   // A direction, normalised where it is used: its squared norm must neither
   // overflow nor underflow (zero: no axis given).
-  const double norm = axis_o.norm();
-  if (!axis_o.isZero(0.0) &&
-      !(norm >= kMinPriorAxisNorm && norm <= kMaxPriorAxisNorm)) {
+  if (!IsUsablePriorAxis(axis_o)) {
     return Status::Error("class prior axis " + AxisText(axis_o) +
                          " must be zero or have a norm in [1e-100, 1e100]");
   }

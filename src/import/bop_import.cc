@@ -141,7 +141,7 @@ Status CheckOptions(const BopImportOptions& o) {
       {"detection sigma_t", o.detection_sigma_t},
       {"detection sigma_r", o.detection_sigma_r}};
   for (const auto& [name, sigma] : sigmas) {
-    if (sigma && !(*sigma >= kMinNoiseSigma && *sigma <= kMaxNoiseSigma)) {
+    if (sigma && !IsUsableNoiseSigma(*sigma)) {
       return Status::Error(std::string("options: ") + name +
                            ": must be in [1e-9, 1e9], got " +
                            internal::Approx(*sigma));

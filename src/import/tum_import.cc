@@ -49,7 +49,7 @@ Status ReadInput(const std::string& path,
 
 // A sigma the backend takes (symba/backend/backend_options.h).
 Status CheckSigma(const char* name, double value) {
-  if (!(value >= kMinNoiseSigma && value <= kMaxNoiseSigma)) {
+  if (!IsUsableNoiseSigma(value)) {
     return Status::Error(std::string(name) + ": must be in [1e-9, 1e9], got " +
                          Approx(value));
   }

@@ -213,8 +213,7 @@ Status ReadHeader(const LineReader& in, LogHeader* header) {
         if (prior.axis_o.isZero(0.0)) {
           return in.Fail(axis_path, "must not be the zero vector");
         }
-        const double norm = prior.axis_o.norm();
-        if (!(norm >= kMinPriorAxisNorm && norm <= kMaxPriorAxisNorm)) {
+        if (!IsUsablePriorAxis(prior.axis_o)) {
           return in.Fail(axis_path, "must have a norm in [1e-100, 1e100]");
         }
       }

@@ -218,9 +218,7 @@ class LogWriter::Impl {
           return fail(path + ".axis",
                       "an asymmetric class has no symmetry axis");
         }
-        const double norm = prior.axis_o.norm();
-        if (has_axis &&
-            !(norm >= kMinPriorAxisNorm && norm <= kMaxPriorAxisNorm)) {
+        if (!IsUsablePriorAxis(prior.axis_o)) {
           return fail(path + ".axis", "must have a norm in [1e-100, 1e100]");
         }
         json.Key(name).BeginObject().Member("symmetry",

@@ -298,6 +298,21 @@ TEST_F(ObjectEdgesTest, AClaimContradictedBeyondTheToleranceIsScaled) {
   EXPECT_FALSE(edges_.ApplyNoise("box", noise));
 }
 
+// Whatever the applied noise (a loaded map's may hold any positive sigma
+// and any claim factor), the effective sigma stays within [kMinNoiseSigma,
+// kMaxNoiseSigma]: the edges and the keyframe graph both read it.
+TEST_F(ObjectEdgesTest, TheEffectiveSigmaStaysWithinTheGivenRange) {
+  ClassNoise extreme = Noise(1e300, 1e300);
+  extreme.claim_scale_t = 1e300;
+  extreme.claim_scale_r = 1e300;
+  for (const bool claimed : {true, false}) {
+    const EdgeSigmas sigmas =
+        EffectiveNoise(Observation(0.05, 0.05, claimed), extreme);
+    EXPECT_EQ(sigmas.t, kMaxNoiseSigma) << claimed;
+    EXPECT_EQ(sigmas.r, kMaxNoiseSigma) << claimed;
+  }
+}
+
 // A scale that wobbles about the tolerance (1.5) switches the factor on
 // once and keeps it: 1.45 leaves the claims, 1.55 scales them, then 1.45
 // and 1.55 in turn move nothing; only a scale that falls to 1 or below

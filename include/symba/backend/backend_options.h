@@ -19,6 +19,9 @@ namespace symba {
 // from it, must be finite and non-zero.
 inline constexpr double kMinNoiseSigma = 1e-9;
 inline constexpr double kMaxNoiseSigma = 1e9;
+inline bool IsUsableNoiseSigma(double sigma) {
+  return sigma >= kMinNoiseSigma && sigma <= kMaxNoiseSigma;  // NaN: false
+}
 // Every translation (a pose's, m) and pixel coordinate (px) symba is given
 // must be within +-kMaxCoordinate: the squares of residuals built from
 // them stay finite (an odometry step of 1e300 m made every solve fail).

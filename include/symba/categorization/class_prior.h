@@ -12,6 +12,12 @@ namespace symba {
 
 inline constexpr double kMinPriorAxisNorm = 1e-100;
 inline constexpr double kMaxPriorAxisNorm = 1e100;
+// Zero (no axis) or a norm in [kMinPriorAxisNorm, kMaxPriorAxisNorm].
+inline bool IsUsablePriorAxis(const Eigen::Vector3d& axis_o) {
+  const double norm = axis_o.norm();
+  return axis_o.isZero(0.0) ||
+         (norm >= kMinPriorAxisNorm && norm <= kMaxPriorAxisNorm);
+}
 
 struct ClassPrior {
   SymmetryType symmetry = SymmetryType::kAsymmetric;

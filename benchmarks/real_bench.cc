@@ -880,6 +880,14 @@ int main(int argc, char** argv) {
                  "marginal")
       ->check(CLI::IsMember({"conditional", "marginal"}))
       ->capture_default_str();
+  std::string detection_errors =
+      symba::DetectionErrorsName(flags.backend.detection_errors);
+  app.add_option("--detection-errors",
+                 detection_errors,
+                 "replay option: what a detection's sigmas are the noise of, "
+                 "log or independent")
+      ->check(CLI::IsMember({"log", "independent"}))
+      ->capture_default_str();
   app.add_option("--drift-yaw",
                  flags.drift_yaw_deg_per_m,
                  "make the front end drift: turn each keyframe step about "
@@ -908,6 +916,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   symba::ParseWindowPolicy(window_policy, &flags.backend.window_policy);
   symba::ParseChainPrior(chain_prior, &flags.backend.chain_prior);
+  symba::ParseDetectionErrors(detection_errors,
+                              &flags.backend.detection_errors);
 
   const auto fail = [](const std::string& message) {
     std::fprintf(stderr, "symba-real-bench: %s\n", message.c_str());

@@ -107,6 +107,7 @@ struct Flags {
   std::string results_md = SYMBA_SOURCE_DIR "/docs/results.md";
   symba::WindowPolicy window_policy = symba::WindowPolicy::kMarginalize;
   symba::ChainPrior chain_prior = symba::ChainPrior::kConditional;
+  symba::DetectionErrors detection_errors = symba::DetectionErrors::kLog;
   bool single_hypothesis = true;  // also run the single-hypothesis set
   bool undeclared_noise = true;   // also run the undeclared-noise set
   bool quiet = false;
@@ -196,6 +197,7 @@ symba::ReplayOptions MethodOptions(const Flags& flags, int m) {
   options.backend.merge_modes = kMethods[m].merge_modes;
   options.backend.window_policy = flags.window_policy;
   options.backend.chain_prior = flags.chain_prior;
+  options.backend.detection_errors = flags.detection_errors;
   return options;
 }
 
@@ -258,6 +260,7 @@ Status RunSeed(const Flags& flags,
       options.final_batch = variant.mode == symba::ReplayMode::kBatch;
       options.backend.window_policy = variant.policy;
       options.backend.chain_prior = flags.chain_prior;
+      options.backend.detection_errors = flags.detection_errors;
       status = ReplayAndEvaluate(
           log, options, sequence_dir, sequence_dir / variant.dir, &run);
       if (!status.ok()) return status;
@@ -977,6 +980,14 @@ int main(int argc, char** argv) {
                  "marginal")
       ->check(CLI::IsMember({"conditional", "marginal"}))
       ->capture_default_str();
+  std::string detection_errors =
+      symba::DetectionErrorsName(flags.detection_errors);
+  app.add_option("--detection-errors",
+                 detection_errors,
+                 "what a detection's sigmas are the noise of (every method): "
+                 "log or independent")
+      ->check(CLI::IsMember({"log", "independent"}))
+      ->capture_default_str();
   app.add_option("--single-hypothesis",
                  flags.single_hypothesis,
                  "also run every scene with the single-hypothesis detector, "
@@ -991,6 +1002,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   symba::ParseWindowPolicy(window_policy, &flags.window_policy);
   symba::ParseChainPrior(chain_prior, &flags.chain_prior);
+  symba::ParseDetectionErrors(detection_errors, &flags.detection_errors);
 
   std::error_code error;
   fs::create_directories(flags.out_dir, error);

@@ -63,6 +63,7 @@ class BackendOptions:
     merge_modes: bool
     object_loss: Literal["none", "huber", "cauchy"]
     object_loss_scale: float
+    detection_errors: Literal["log", "independent"]
     mixture: MixtureOptions
     frontend_sigma_t: float
     frontend_sigma_r: float

@@ -126,6 +126,12 @@ void AppendObjectEdgeOptions(OptionTable<BackendOptions>* table) {
                           "",
                           Positive(),
                           "scale of the object loss (whitened units)"),
+          EnumOption<O>("detection_errors",
+                        &O::detection_errors,
+                        DetectionErrorsNames(),
+                        "what a detection's sigmas are the noise of: log "
+                        "(the SE(3) log error, the paper's) or independent "
+                        "(its position and its rotation)"),
       });
   AppendNested("mixture", &O::mixture, MixtureOptionTable(), table);
 }
@@ -397,6 +403,13 @@ const std::vector<EnumName<LossType>>& LossNames() {
       {LossType::kNone, "none"},
       {LossType::kHuber, "huber"},
       {LossType::kCauchy, "cauchy"}};
+  return names;
+}
+
+const std::vector<EnumName<DetectionErrors>>& DetectionErrorsNames() {
+  static const std::vector<EnumName<DetectionErrors>> names = {
+      {DetectionErrors::kLog, "log"},
+      {DetectionErrors::kIndependent, "independent"}};
   return names;
 }
 

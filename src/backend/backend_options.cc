@@ -18,6 +18,14 @@ bool ParseLoss(const std::string& name, LossType* loss) {
   return ValueOf(name, LossNames(), loss);
 }
 
+const char* DetectionErrorsName(DetectionErrors errors) {
+  return NameOf(errors, DetectionErrorsNames());
+}
+
+bool ParseDetectionErrors(const std::string& name, DetectionErrors* errors) {
+  return ValueOf(name, DetectionErrorsNames(), errors);
+}
+
 const char* WindowPolicyName(WindowPolicy policy) {
   return NameOf(policy, WindowPolicyNames());
 }

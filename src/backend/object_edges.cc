@@ -276,6 +276,11 @@ std::unique_ptr<ceres::CostFunction> ObjectEdges::BuildEdge(
           Eigen::Matrix3d::Identity() / kPositionOnlySigmaR;
     }
   }
+  if (options_.detection_errors == DetectionErrors::kIndependent) {
+    for (PoseComponent& c : components) {
+      c.sqrt_info = DetectionSqrtInfo(c.sqrt_info, c.T_co.t);
+    }
+  }
   if (object->type == SymmetryType::kAsymmetric) {
     std::unique_ptr<AsymmetricObjectEdge> edge;
     Status status =

@@ -21,6 +21,7 @@ const std::vector<EnumName<Method>>& MethodNames();
 const std::vector<EnumName<WindowPolicy>>& WindowPolicyNames();
 const std::vector<EnumName<ChainPrior>>& ChainPriorNames();
 const std::vector<EnumName<LossType>>& LossNames();
+const std::vector<EnumName<DetectionErrors>>& DetectionErrorsNames();
 
 const OptionTable<MixtureOptions>& MixtureOptionTable();
 // BackendOptions' own fields, then mixture.* and categorization.*, each at

@@ -89,6 +89,21 @@ enum class LossType { kNone, kHuber, kCauchy };
 const char* LossName(LossType loss);  // "none", "huber", "cauchy"
 bool ParseLoss(const std::string& name, LossType* loss);
 
+// How a detection's sigma_t and sigma_r weigh its pose edge's error, the
+// SE(3) log [rho; omega] of the measured against the estimated T_co
+// (symba/factors/pose_component.h, DetectionSqrtInfo; docs/backend.md
+// "Detection errors").
+enum class DetectionErrors {
+  // rho and omega independent, sigma_t on rho (the paper's edge): a
+  // rotation error swings the measured position about the camera with it.
+  kLog,
+  // The position t_co (camera frame) and the rotation independent, sigma_t
+  // on the position: the bearing to the object is as good as the position.
+  kIndependent,
+};
+const char* DetectionErrorsName(DetectionErrors errors);  // "log", ...
+bool ParseDetectionErrors(const std::string& name, DetectionErrors* errors);
+
 struct BackendOptions {
   Method method = Method::kSymba;
 
@@ -139,6 +154,9 @@ struct BackendOptions {
   // Robust loss on every object edge; scale in whitened units.
   LossType object_loss = LossType::kCauchy;
   double object_loss_scale = 3.0;
+  // What a detection's sigmas are the noise of (see DetectionErrors; every
+  // method's edges, so the comparison stays one of methods).
+  DetectionErrors detection_errors = DetectionErrors::kLog;
   MixtureOptions mixture;
 
   // Camera motion: the front end's relative motion between consecutive

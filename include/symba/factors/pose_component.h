@@ -3,6 +3,8 @@
 // [rho; omega], metres and radians) and its weight w_j > 0.
 //
 // IsotropicPoseSqrtInfo builds L = diag(1/sigma_t x3, 1/sigma_r x3).
+// DetectionSqrtInfo turns an L of independent position and rotation errors
+// into the L on the log error (see there).
 // ValidatePoseComponents rejects what must never reach a Ceres problem:
 // non-finite numbers, a non-positive weight, a singular L, a quaternion that
 // is not unit within 1e-6 (after which it is normalised by the edges).
@@ -18,6 +20,7 @@
 
 #include "symba/common/status.h"
 #include "symba/geometry/rigid3.h"
+#include "symba/geometry/so3.h"
 
 namespace symba {
 
@@ -34,6 +37,32 @@ inline Matrix6d IsotropicPoseSqrtInfo(double sigma_t, double sigma_r) {
   sqrt_info.diagonal() << Eigen::Vector3d::Constant(1.0 / sigma_t),
       Eigen::Vector3d::Constant(1.0 / sigma_r);
   return sqrt_info;
+}
+
+// A detector's errors of one pose T_co = (R_co, t_co) taken as its position
+// error e_t (camera frame, m) and its rotation error omega (camera frame,
+// rad; R_measured = Exp(omega) R_co), independent of each other and
+// whitened by `independent` = diag(L_t, L_r) (e.g. IsotropicPoseSqrtInfo).
+// The edges' log error [rho; omega] = LogSE3(T_co_measured T_co^-1) mixes
+// them: to first order
+//
+//   rho = e_t - omega x t_co,
+//
+// the rotation error swinging the measured position about the camera by the
+// object's distance (5 cm per 3 degrees at 1 m). The square-root
+// information on [rho; omega] that whitens [e_t; omega] = [rho + omega x
+// t_co; omega] instead:
+//
+//   L = diag(L_t, L_r) [I  -Hat(t_co); 0  I]     (det L = det L_t det L_r)
+//
+// with t_co the measured position (the estimate's differs from it at second
+// order). A constant matrix per component: the edges' Jacobians and their
+// max-mixture normalisation are unchanged.
+inline Matrix6d DetectionSqrtInfo(const Matrix6d& independent,
+                                  const Eigen::Vector3d& t_co) {
+  Matrix6d decouple = Matrix6d::Identity();
+  decouple.topRightCorner<3, 3>() = -Hat<double>(t_co);
+  return independent * decouple;
 }
 
 // Checks a square-root information matrix and a weight of one component.

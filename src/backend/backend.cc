@@ -51,18 +51,18 @@ std::vector<ClassNoiseEstimate> Backend::Impl::Noise() const {
     c.sigma_t = estimate.sigma_t;
     c.sigma_r = estimate.sigma_r;
     // As BuildObjectEdge weighs a detection without a sigma: the applied
-    // estimate against the floor.
+    // estimate against the floor, within the range an edge holds it to.
     // (Without estimate_noise: the default, SetObservationNoise.)
     const internal::ClassNoise used = edges_.AppliedNoise(name);
     c.weight_sigma_t =
         options_.estimate_noise
-            ? internal::EffectiveSigma(
-                  options_.uncalibrated_sigma_t, false, used.sigma_t)
+            ? UsableNoiseSigma(internal::EffectiveSigma(
+                  options_.uncalibrated_sigma_t, false, used.sigma_t))
             : options_.hypothesis_sigma_t;
     c.weight_sigma_r =
         options_.estimate_noise
-            ? internal::EffectiveSigma(
-                  options_.uncalibrated_sigma_r, false, used.sigma_r)
+            ? UsableNoiseSigma(internal::EffectiveSigma(
+                  options_.uncalibrated_sigma_r, false, used.sigma_r))
             : options_.hypothesis_sigma_r;
     c.translation = noise.TranslationReport(name);
     c.rotation = noise.RotationReport(name);

@@ -202,9 +202,7 @@ EdgeSigmas EffectiveNoise(const ObjectObservation& observation,
   // loaded map's noise or claim factors or an estimate from extreme
   // detections made of it: the edges' and the keyframe graph's information
   // stays finite and invertible.
-  auto usable = [](double sigma) {
-    return std::clamp(sigma, kMinNoiseSigma, kMaxNoiseSigma);
-  };
+  const auto usable = UsableNoiseSigma;
   if (observation.from_scatter) {
     return {usable(EffectiveSigma(
                 observation.sigma_t, false, applied.white_sigma_t)),

@@ -459,6 +459,12 @@ TEST(BackendSavedMap, ExtremeLoadedNoiseStillBuildsEveryEdge) {
     const std::vector<MapObjectEstimate> objects = backend->Objects();
     ASSERT_EQ(objects.size(), 1u) << extreme;
     EXPECT_NEAR((objects[0].t_wo - T_wo.t).norm(), 0.0, 1e-6) << extreme;
+    // The noise report says what the edges weighed with: within the range
+    // (1e300 was reported before, the edges held 1e9).
+    for (const ClassNoiseEstimate& c : backend->Noise()) {
+      EXPECT_TRUE(IsUsableNoiseSigma(c.weight_sigma_t)) << c.weight_sigma_t;
+      EXPECT_TRUE(IsUsableNoiseSigma(c.weight_sigma_r)) << c.weight_sigma_r;
+    }
   }
 }
 

@@ -605,7 +605,7 @@ TEST(BackendSequences, IndependentDetectionErrorsTieTheCameraToTheBearing) {
   for (const ScriptedObject& object :
        {box, Table(SymmetryType::kDiscrete, 2)}) {
     double log_sum = 0.0;
-    double sum = 0.0;
+    double independent_sum = 0.0;
     for (const unsigned seed : {1u, 2u, 3u, 4u}) {
       ScriptedSequenceSpec spec = OrbitSpec(object);
       spec.detection_sigma_t = spec.translation_sigma;
@@ -614,25 +614,27 @@ TEST(BackendSequences, IndependentDetectionErrorsTieTheCameraToTheBearing) {
       BackendOptions independent;
       independent.detection_errors = DetectionErrors::kIndependent;
       std::unique_ptr<Backend> log_backend;
-      std::unique_ptr<Backend> backend;
+      std::unique_ptr<Backend> independent_backend;
       ASSERT_NO_FATAL_FAILURE(RunSequence(seq, BackendOptions(), &log_backend));
-      ASSERT_NO_FATAL_FAILURE(RunSequence(seq, independent, &backend));
+      ASSERT_NO_FATAL_FAILURE(
+          RunSequence(seq, independent, &independent_backend));
       const double log_rmse =
           Positions(seq.T_wc_true, EstimatedPoses(*log_backend)).rmse;
-      const double rmse =
-          Positions(seq.T_wc_true, EstimatedPoses(*backend)).rmse;
+      const double independent_rmse =
+          Positions(seq.T_wc_true, EstimatedPoses(*independent_backend)).rmse;
       std::printf(
           "[ detection errors ] %s seed %u: log %.4f m, independent "
           "%.4f m\n",
           ToString(object.symmetry),
           seed,
           log_rmse,
-          rmse);
-      EXPECT_EQ(backend->Objects().size(), 1u) << seed;
+          independent_rmse);
+      EXPECT_EQ(log_backend->Objects().size(), 1u) << seed;
+      EXPECT_EQ(independent_backend->Objects().size(), 1u) << seed;
       log_sum += log_rmse;
-      sum += rmse;
+      independent_sum += independent_rmse;
     }
-    EXPECT_LT(sum, 0.95 * log_sum) << ToString(object.symmetry);
+    EXPECT_LT(independent_sum, 0.95 * log_sum) << ToString(object.symmetry);
   }
 }
 

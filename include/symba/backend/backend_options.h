@@ -3,6 +3,7 @@
 #ifndef SYMBA_BACKEND_BACKEND_OPTIONS_H_
 #define SYMBA_BACKEND_BACKEND_OPTIONS_H_
 
+#include <algorithm>
 #include <string>
 
 #include "symba/categorization/categorization_options.h"
@@ -21,6 +22,11 @@ inline constexpr double kMinNoiseSigma = 1e-9;
 inline constexpr double kMaxNoiseSigma = 1e9;
 inline bool IsUsableNoiseSigma(double sigma) {
   return sigma >= kMinNoiseSigma && sigma <= kMaxNoiseSigma;  // NaN: false
+}
+// A sigma symba made (from a loaded map's noise, claim factors, estimates)
+// held within that range, as the edges weigh with it.
+inline double UsableNoiseSigma(double sigma) {
+  return std::clamp(sigma, kMinNoiseSigma, kMaxNoiseSigma);
 }
 // Every translation (a pose's, m) and pixel coordinate (px) symba is given
 // must be within +-kMaxCoordinate: the squares of residuals built from

@@ -202,11 +202,10 @@ EdgeSigmas EffectiveNoise(const ObjectObservation& observation,
   // loaded map's noise or claim factors or an estimate from extreme
   // detections made of it: the edges' and the keyframe graph's information
   // stays finite and invertible.
-  const auto usable = UsableNoiseSigma;
   if (observation.from_scatter) {
-    return {usable(EffectiveSigma(
+    return {UsableNoiseSigma(EffectiveSigma(
                 observation.sigma_t, false, applied.white_sigma_t)),
-            usable(EffectiveSigma(
+            UsableNoiseSigma(EffectiveSigma(
                 observation.sigma_r, false, applied.white_sigma_r))};
   }
   // A claim times its class's claim factor (ApplyNoise); else the larger
@@ -219,7 +218,7 @@ EdgeSigmas EffectiveNoise(const ObjectObservation& observation,
       observation.claimed_r
           ? observation.sigma_r * applied.claim_scale_r.value_or(1.0)
           : EffectiveSigma(observation.sigma_r, false, applied.sigma_r);
-  return {usable(sigma_t), usable(sigma_r)};
+  return {UsableNoiseSigma(sigma_t), UsableNoiseSigma(sigma_r)};
 }
 
 ClassNoise ObjectEdges::AppliedNoise(const std::string& class_name) const {

@@ -146,15 +146,8 @@ TEST(AsymmetricObjectEdgeTest, GradientCheckerPassesAt240RandomStates) {
     for (int j = 0; j < n; ++j) {
       const Rigid3d noise(random.RotationOfAngle(random.Uniform(0.0, 0.5)),
                           random.NormalVector(0.1));
-      const Rigid3d T_co = T_co_true * noise;
-      Matrix6d sqrt_info = IsotropicPoseSqrtInfo(random.Uniform(0.02, 0.2),
-                                                 random.Uniform(0.05, 0.3));
-      // Independent position and rotation errors (a full upper-right
-      // block) on every other ten trials.
-      if ((trial / 10) % 2 == 1) {
-        sqrt_info = DetectionSqrtInfo(sqrt_info, T_co.t);
-      }
-      components.push_back({T_co, sqrt_info, random.Uniform(0.1, 1.0)});
+      components.push_back(testing::RandomGradientCheckComponent(
+          T_co_true * noise, trial, &random));
     }
     if (trial % 10 == 0) {
       // Estimate within 1e-6 rad and 1e-6 m of hypothesis 0.

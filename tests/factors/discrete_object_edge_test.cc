@@ -171,15 +171,8 @@ TEST(DiscreteObjectEdgeTest, GradientCheckerPassesAt240RandomStates) {
         offset = Rigid3d(random.RotationOfAngle(kPi - 1e-3),
                          Eigen::Vector3d::Zero());
       }
-      const Rigid3d T_co_j = T_co * offset;
-      Matrix6d sqrt_info = IsotropicPoseSqrtInfo(random.Uniform(0.02, 0.2),
-                                                 random.Uniform(0.05, 0.3));
-      // Independent position and rotation errors on every other ten trials
-      // (each kind of state above meets both).
-      if ((trial / 10) % 2 == 1) {
-        sqrt_info = DetectionSqrtInfo(sqrt_info, T_co_j.t);
-      }
-      components.push_back({T_co_j, sqrt_info, random.Uniform(0.1, 1.0)});
+      components.push_back(
+          testing::RandomGradientCheckComponent(T_co * offset, trial, &random));
     }
     auto edge = MakeEdge(components, anchor);
     DiscreteState state(T_wc, t_wo, a_w, theta);

@@ -14,7 +14,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "symba/factors/pose_component.h"
 #include "symba/geometry/rigid3.h"
+#include "test_support/random.h"
 
 namespace symba::testing {
 
@@ -140,6 +142,20 @@ inline bool EvaluationsAgree(const Evaluation& a,
          ok;
   }
   return ok;
+}
+
+// A component of the pose edges' gradient checks at T_co: sigmas drawn from
+// [0.02, 0.2] m and [0.05, 0.3] rad, a weight from [0.1, 1]. On every other
+// ten trials its errors are taken as independent (DetectionSqrtInfo, a full
+// upper-right block), so each kind of state a block of ten draws meets both
+// informations.
+inline PoseComponent RandomGradientCheckComponent(const Rigid3d& T_co,
+                                                  int trial,
+                                                  TestRandom* random) {
+  Matrix6d sqrt_info = IsotropicPoseSqrtInfo(random->Uniform(0.02, 0.2),
+                                             random->Uniform(0.05, 0.3));
+  if ((trial / 10) % 2 == 1) sqrt_info = DetectionSqrtInfo(sqrt_info, T_co.t);
+  return {T_co, sqrt_info, random->Uniform(0.1, 1.0)};
 }
 
 }  // namespace symba::testing

@@ -395,7 +395,10 @@ void ObservePoints(const SimulationOptions& options,
   }
 }
 
-std::string FormatGroundTruthObjects(const SimulatedSequence& sequence) {
+}  // namespace
+
+std::vector<GroundTruthObject> GroundTruthObjects(
+    const SimulatedSequence& sequence) {
   std::vector<GroundTruthObject> objects;
   for (size_t i = 0; i < sequence.objects.size(); ++i) {
     const SimulatedObject& o = sequence.objects[i];
@@ -411,13 +414,19 @@ std::string FormatGroundTruthObjects(const SimulatedSequence& sequence) {
     }
     objects.push_back(std::move(g));
   }
+  return objects;
+}
+
+namespace {
+
+std::string FormatGroundTruthObjects(const SimulatedSequence& sequence) {
   std::vector<std::pair<std::string, int>> detections;
   for (const auto& truths : sequence.detections) {
     for (const SimulatedDetectionTruth& truth : truths) {
       detections.emplace_back(truth.id, truth.object);
     }
   }
-  return FormatGroundTruthObjectsJson(objects, detections);
+  return FormatGroundTruthObjectsJson(GroundTruthObjects(sequence), detections);
 }
 
 }  // namespace

@@ -31,6 +31,7 @@
 #include "symba/backend/keyframe_input.h"
 #include "symba/common/status.h"
 #include "symba/geometry/rigid3.h"
+#include "symba/io/ground_truth_objects.h"
 #include "symba/io/log_format.h"
 #include "symba/simulation/scene.h"
 
@@ -70,6 +71,11 @@ Status Simulate(const std::string& scene_name,
                 const SimulationOptions& options,
                 uint32_t seed,
                 SimulatedSequence* out);
+
+// The sequence's objects as gt_objects.json holds them (id = index, unit
+// axes in the object and world frames for symmetric ones).
+std::vector<GroundTruthObject> GroundTruthObjects(
+    const SimulatedSequence& sequence);
 
 // The three files of a simulation, named and formatted as above. Fails
 // only if LogWriter refuses a keyframe (which would be a simulator bug).

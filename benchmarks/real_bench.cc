@@ -148,7 +148,8 @@ struct Run {
   std::vector<double> object_nees;
   int upgrades = 0;
   double ms_per_keyframe = 0.0;
-  symba::ReplayOutputs outputs;  // for the picture
+  symba::ReplayOutputs outputs;                              // for the picture
+  std::vector<symba::bench::LoopClosureLine> loop_closures;  // as drawn
 };
 
 // The pose of `poses` (increasing timestamps) at `timestamp`, or null.
@@ -361,6 +362,8 @@ Status RunMethod(const Flags& flags,
 
   run->outputs.keyframes = ToPoses(result.keyframes);
   run->outputs.objects = result.objects;
+  run->loop_closures =
+      symba::bench::LoopClosureLines(result.keyframes, result.loop_closures);
   symba::TrajectoryError error;
   status = symba::CompareTrajectories(run->outputs.keyframes,
                                       out.string(),
@@ -967,7 +970,12 @@ int main(int argc, char** argv) {
           symba::bench::Count(static_cast<int>(run.outputs.objects.size()),
                               "map object") +
           " for " +
-          symba::bench::Count(static_cast<int>(s.objects.size()), "object");
+          symba::bench::Count(static_cast<int>(s.objects.size()), "object") +
+          (run.loop_closures.empty()
+               ? std::string()
+               : ", " + symba::bench::Count(
+                            static_cast<int>(run.loop_closures.size()),
+                            "loop closure"));
       status = symba::bench::WriteText(
           (fs::path(flags.out_dir) / (s.name + "-" + flags.methods[m] + ".svg"))
               .string(),
@@ -975,7 +983,8 @@ int main(int argc, char** argv) {
                                    run.outputs,
                                    title,
                                    kColors[m % 3],
-                                   s.front_end_keyframes));
+                                   s.front_end_keyframes,
+                                   run.loop_closures));
       if (!status.ok()) return fail(status.message());
       runs[m].push_back(std::move(run));
     }

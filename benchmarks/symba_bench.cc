@@ -117,6 +117,7 @@ struct Flags {
 struct Run {
   Evaluation evaluation;
   double ms_per_keyframe = 0.0;
+  std::vector<symba::bench::LoopClosureLine> loop_closures;  // as drawn
   // Some ground-truth object's detections went to more than one map object.
   bool LostAnObject() const { return evaluation.MaxFragmentation() > 1; }
 };
@@ -164,6 +165,8 @@ Status ReplayAndEvaluate(const std::string& log,
   status = symba::Evaluate(
       sequence_dir.string(), out_dir.string(), &run->evaluation);
   if (!status.ok()) return status;
+  run->loop_closures =
+      symba::bench::LoopClosureLines(result.keyframes, result.loop_closures);
   run->ms_per_keyframe =
       result.keyframes.empty()
           ? 0.0
@@ -199,6 +202,13 @@ symba::ReplayOptions MethodOptions(const Flags& flags, int m) {
   options.backend.chain_prior = flags.chain_prior;
   options.backend.detection_errors = flags.detection_errors;
   return options;
+}
+
+// ", N loop closures" for a picture's title; empty without any.
+std::string LoopClosureCount(const Run& run) {
+  if (run.loop_closures.empty()) return "";
+  return ", " +
+         Count(static_cast<int>(run.loop_closures.size()), "loop closure");
 }
 
 // Simulates, replays with every method, evaluates, draws (seed 0).
@@ -243,10 +253,12 @@ Status RunSeed(const Flags& flags,
           scene + ", seed 0, " + kMethods[m].label + ": position RMSE " +
           Fixed(run.evaluation.position_rmse, 3) + " m, " +
           Count(run.evaluation.map_objects, "map object") + " for " +
-          Count(static_cast<int>(gt.objects.size()), "object");
+          Count(static_cast<int>(gt.objects.size()), "object") +
+          LoopClosureCount(run);
       status = WriteText(
           fs::path(flags.out_dir) / (scene + "-" + name + ".svg"),
-          symba::bench::TopDownSvg(gt, outputs, title, kMethods[m].color));
+          symba::bench::TopDownSvg(
+              gt, outputs, title, kMethods[m].color, {}, run.loop_closures));
       if (!status.ok()) return status;
     }
   }
@@ -934,7 +946,9 @@ std::string ResultsMarkdown(const Flags& flags,
          "keyframe trajectories, the ground-truth objects (green circles) "
          "and the map objects (diamonds), symmetry axes that are not "
          "vertical as dashed lines, discrete angles and asymmetric headings "
-         "as ticks, continuous objects with a dashed ring, a legend and a "
+         "as ticks, continuous objects with a dashed ring, the loop "
+         "closures (orange: a line between the two keyframes, a ring at the "
+         "one that closed it; the orbit scenes close none), a legend and a "
          "scale bar. Next to them, `<scene>/seed-<s>/` holds the simulated "
          "log and ground truth and, per method, the replay outputs and "
          "`evaluation.json`.\n\n"

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -26,11 +27,13 @@ constexpr double kMarker = 7.0;
 constexpr double kTick = 16.0;
 constexpr double kAxisHalf = 26.0;
 constexpr double kRing = 13.0;
+constexpr double kLoopRing = 5.0;
 // An axis is drawn when its horizontal component exceeds sin(5 deg).
 const double kMinHorizontal = std::sin(5.0 * kPi / 180.0);
 constexpr char kGtColor[] = "#2ca02c";
 constexpr char kGtTrajectoryColor[] = "#222222";
 constexpr char kFrontEndColor[] = "#999999";
+constexpr char kLoopColor[] = "#ff7f0e";
 
 std::string Num(double value) {
   char buffer[32];
@@ -52,6 +55,17 @@ std::string Escape(const std::string& text) {
     }
   }
   return out;
+}
+
+// A loop closure's drawing in picture pixels: the line from the closing
+// keyframe (x1, y1) to the earlier one and a ring at the closing one.
+std::string LoopClosureSvg(
+    double x1, double y1, double x2, double y2, const std::string& css_class) {
+  return "<g class=\"" + css_class + "\" stroke=\"" + kLoopColor +
+         "\" fill=\"none\" stroke-width=\"1.5\"><line x1=\"" + Num(x1) +
+         "\" y1=\"" + Num(y1) + "\" x2=\"" + Num(x2) + "\" y2=\"" + Num(y2) +
+         "\"/><circle cx=\"" + Num(x1) + "\" cy=\"" + Num(y1) + "\" r=\"" +
+         Num(kLoopRing) + "\"/></g>\n";
 }
 
 // World x-y to picture pixels.
@@ -135,6 +149,16 @@ class Svg {
         " stroke-dasharray=\"5 3\"");
   }
 
+  // A loop closure: a line between its keyframes and a ring at the one
+  // that closed it.
+  void LoopClosure(const LoopClosureLine& loop) {
+    out_ += LoopClosureSvg(frame_.X(loop.closing.x()),
+                           frame_.Y(loop.closing.y()),
+                           frame_.X(loop.earlier.x()),
+                           frame_.Y(loop.earlier.y()),
+                           "loop-closure");
+  }
+
   void Ring(const Eigen::Vector3d& c, const std::string& color) {
     out_ += "<circle cx=\"" + Num(frame_.X(c.x())) + "\" cy=\"" +
             Num(frame_.Y(c.y())) + "\" r=\"" + Num(kRing) +
@@ -183,11 +207,30 @@ double ScaleBarLength(double max) {
 
 }  // namespace
 
+std::vector<LoopClosureLine> LoopClosureLines(
+    const std::vector<KeyframeEstimate>& keyframes,
+    const std::vector<LoopClosureReport>& loops) {
+  std::map<KeyframeId, Eigen::Vector3d> position;
+  for (const KeyframeEstimate& k : keyframes) position[k.id] = k.T_wc.t;
+  std::vector<LoopClosureLine> lines;
+  for (const LoopClosureReport& loop : loops) {
+    const auto closing = position.find(loop.keyframe);
+    const auto earlier = position.find(loop.other);
+    if (loop.waiting || closing == position.end() ||
+        earlier == position.end()) {
+      continue;
+    }
+    lines.push_back({closing->second, earlier->second});
+  }
+  return lines;
+}
+
 std::string TopDownSvg(const GroundTruth& gt,
                        const ReplayOutputs& result,
                        const std::string& title,
                        const std::string& color,
-                       const std::vector<TrajectoryPose>& front_end) {
+                       const std::vector<TrajectoryPose>& front_end,
+                       const std::vector<LoopClosureLine>& loops) {
   // Bounds: everything true, and the estimate where it stays within twice
   // the true extent (a diverged estimate is clipped, not zoomed out to).
   Eigen::AlignedBox2d truth;
@@ -284,6 +327,7 @@ std::string TopDownSvg(const GroundTruth& gt,
     }
     svg.MapMarker(frame.X(c.x()), frame.Y(c.y()), color);
   }
+  for (const LoopClosureLine& loop : loops) svg.LoopClosure(loop);
   svg.Raw("</g>\n");
 
   // Legend.
@@ -307,6 +351,14 @@ std::string TopDownSvg(const GroundTruth& gt,
     line_entry(kFrontEndColor,
                "stroke-width=\"1.5\" stroke-dasharray=\"2 3\"",
                "front end");
+  }
+  if (!loops.empty()) {
+    svg.Raw(LoopClosureSvg(x + 24, y, x + 4, y, "legend"));
+    svg.Text(x + 38,
+             y + 4,
+             "loop closure (" + std::to_string(loops.size()) + ")",
+             12);
+    y += 22;
   }
   svg.GtMarker(x + 15, y);
   svg.Text(x + 38, y + 4, "ground-truth object", 12);

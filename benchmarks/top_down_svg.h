@@ -8,7 +8,9 @@
 //     along R_wo_i e_o, e_o the unit vector of the object frame
 //     perpendicular to the axis closest to object x (object x itself when
 //     asymmetric);
-//   - continuous objects with a dashed ring.
+//   - continuous objects with a dashed ring;
+// and the loop closures, each a line between its two keyframes' estimated
+// positions with a ring at the keyframe that closed it.
 // A legend and a scale bar; the world's +y points up in the picture.
 #ifndef SYMBA_BENCHMARKS_TOP_DOWN_SVG_H_
 #define SYMBA_BENCHMARKS_TOP_DOWN_SVG_H_
@@ -16,18 +18,39 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
+#include "symba/backend/estimates.h"
+#include "symba/backend/loop_closure.h"
 #include "symba/evaluation/evaluate.h"
 
 namespace symba::bench {
 
+// A loop closure as drawn: the estimated positions (world frame, m) of the
+// keyframe that closed it and of the earlier keyframe it was related to.
+struct LoopClosureLine {
+  Eigen::Vector3d closing = Eigen::Vector3d::Zero();
+  Eigen::Vector3d earlier = Eigen::Vector3d::Zero();
+};
+
+// The closed loop closures of `loops` (Backend::LoopClosures()), their
+// keyframes looked up by id in `keyframes`; a closure still waiting for a
+// solve, or one whose keyframe is not in `keyframes`, is left out.
+std::vector<LoopClosureLine> LoopClosureLines(
+    const std::vector<KeyframeEstimate>& keyframes,
+    const std::vector<LoopClosureReport>& loops);
+
 // `title` is the first line of the picture; `color` (an SVG colour) is the
 // estimate's. A non-empty `front_end` (e.g. a front end's keyframe poses in
-// the ground truth's world) is drawn as a grey dotted line.
+// the ground truth's world) is drawn as a grey dotted line. Each of `loops`
+// is an orange line with a ring (SVG class "loop-closure"), counted in the
+// legend when there are any.
 std::string TopDownSvg(const GroundTruth& gt,
                        const ReplayOutputs& result,
                        const std::string& title,
                        const std::string& color,
-                       const std::vector<TrajectoryPose>& front_end = {});
+                       const std::vector<TrajectoryPose>& front_end = {},
+                       const std::vector<LoopClosureLine>& loops = {});
 
 }  // namespace symba::bench
 

@@ -36,6 +36,7 @@
 #include "symba/backend/backend_options.h"
 #include "symba/simulation/scene.h"
 #include "symba/simulation/simulator.h"
+#include "top_down_svg.h"
 
 namespace {
 
@@ -59,6 +60,9 @@ struct Flags {
   std::string performance_md;
   std::string picture;
   std::string picture_link;
+  std::string top_down;
+  std::string top_down_link;
+  int top_down_stride = 5;  // every how many keyframes the picture draws
   bool quiet = false;
 };
 
@@ -85,6 +89,36 @@ std::string RunPath(const Flags& flags, WindowPolicy policy) {
   return (fs::path(flags.out_dir) /
           (std::string("window-") + symba::WindowPolicyName(policy) + ".txt"))
       .string();
+}
+
+// The top-down picture of a finished replay: every top_down_stride-th
+// keyframe of the truth and of the estimate, the map, the loop closures.
+std::string TopDown(const Flags& flags,
+                    const symba::SimulatedSequence& sequence,
+                    const symba::Backend& backend,
+                    double rmse) {
+  symba::GroundTruth gt;
+  gt.objects = symba::GroundTruthObjects(sequence);
+  symba::ReplayOutputs outputs;
+  const std::vector<symba::KeyframeEstimate> keyframes = backend.Keyframes();
+  for (std::size_t k = 0; k < keyframes.size(); ++k) {
+    if (k % flags.top_down_stride != 0 && k + 1 != keyframes.size()) continue;
+    const symba::KeyframeEstimate& kf = keyframes[k];
+    outputs.keyframes.push_back({kf.timestamp, kf.T_wc, 0});
+    gt.keyframes.push_back({kf.timestamp, sequence.T_wc_true[kf.id], 0});
+  }
+  outputs.objects = backend.Objects();
+  const std::vector<symba::bench::LoopClosureLine> loops =
+      symba::bench::LoopClosureLines(keyframes, backend.LoopClosures());
+  const std::string title =
+      "long scene, seed " + std::to_string(flags.seed) + ", " +
+      std::to_string(keyframes.size()) + " keyframes: RMSE " + Fixed(rmse, 3) +
+      " m, " +
+      symba::bench::Count(static_cast<int>(outputs.objects.size()),
+                          "map object") +
+      ", " +
+      symba::bench::Count(static_cast<int>(loops.size()), "loop closure");
+  return symba::bench::TopDownSvg(gt, outputs, title, "#1f77b4", {}, loops);
 }
 
 // The child's work: replays, writes RunPath (a "key value" line each for
@@ -178,7 +212,12 @@ Status Replay(const Flags& flags,
   }
   out.close();
   if (!out) return Status::Error(RunPath(flags, policy) + ": cannot write");
-  return Status::Ok();
+  if (flags.top_down.empty() || policy != WindowPolicy::kMarginalize) {
+    return Status::Ok();
+  }
+  return symba::bench::WriteText(
+      flags.top_down,
+      TopDown(flags, sequence, *backend, std::sqrt(sum_all / keyframes)));
 }
 
 Status ReadRun(const std::string& path, int keyframes, PolicyRun* run) {
@@ -304,16 +343,21 @@ double MeanWithoutClosures(const PolicyRun& run, int begin, int end) {
   return count > 0 ? sum / count : std::nan("");
 }
 
+// How many loop closures the run made.
+int LoopClosureCount(const PolicyRun& run) {
+  int count = 0;
+  for (int n : run.loop_closures) count += n;
+  return count;
+}
+
 // "count | median / max [s]" of the run's loop closures (per keyframe that
 // had any: their seconds together).
 std::string LoopClosureCells(const PolicyRun& run) {
   std::vector<double> seconds;
-  int count = 0;
   for (size_t k = 0; k < run.loop_closures.size(); ++k) {
-    if (run.loop_closures[k] == 0) continue;
-    count += run.loop_closures[k];
-    seconds.push_back(run.loop_seconds[k]);
+    if (run.loop_closures[k] > 0) seconds.push_back(run.loop_seconds[k]);
   }
+  const int count = LoopClosureCount(run);
   if (seconds.empty()) return "0 | —";
   std::sort(seconds.begin(), seconds.end());
   const double median =
@@ -350,7 +394,8 @@ std::string Picture(const Flags& flags, const std::vector<PolicyRun>& runs) {
     x_max = std::max(x_max, run.keyframes);
     std::vector<std::pair<double, double>> line;
     for (int b = 0; b < run.keyframes; b += flags.picture_bin) {
-      const double y = MeanOver(run.ms, b, b + flags.picture_bin);
+      const double y = MeanWithoutClosures(run, b, b + flags.picture_bin);
+      if (std::isnan(y)) continue;
       line.emplace_back(b + 0.5 * flags.picture_bin, y);
       y_max = std::max(y_max, y);
     }
@@ -369,7 +414,9 @@ std::string Picture(const Flags& flags, const std::vector<PolicyRun>& runs) {
       << "font-size=\"12\">\n"
       << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
       << "<text x=\"" << left << "\" y=\"18\">Time per keyframe [ms], mean "
-      << "of " << flags.picture_bin << " keyframes, long scene, window "
+      << "of " << flags.picture_bin
+      << " keyframes but those that closed a loop (ticks), long scene, "
+         "window "
       << flags.window << "</text>\n";
   for (double y = 0.0; y <= y_top + 1e-9; y += step) {
     svg << "<line x1=\"" << left << "\" y1=\"" << Y(y) << "\" x2=\""
@@ -394,7 +441,17 @@ std::string Picture(const Flags& flags, const std::vector<PolicyRun>& runs) {
     for (const auto& [x, y] : lines[i]) svg << X(x) << "," << Y(y) << " ";
     svg << "\"/>\n<text x=\"" << left + 10 << "\" y=\"" << top + 16 + 16 * i
         << "\" fill=\"" << colors[i % 3] << "\">"
-        << symba::WindowPolicyName(runs[i].policy) << "</text>\n";
+        << symba::WindowPolicyName(runs[i].policy) << " ("
+        << symba::bench::Count(LoopClosureCount(runs[i]), "loop closure")
+        << ")</text>\n";
+    // A tick on the x axis at each keyframe that closed a loop.
+    for (int k = 0; k < runs[i].keyframes; ++k) {
+      if (runs[i].loop_closures[k] == 0) continue;
+      svg << "<line class=\"loop-closure\" x1=\"" << X(k) << "\" y1=\""
+          << top + plot_h - 3 * static_cast<int>(i) << "\" x2=\"" << X(k)
+          << "\" y2=\"" << top + plot_h - 8 - 3 * static_cast<int>(i)
+          << "\" stroke=\"" << colors[i % 3] << "\"/>\n";
+    }
   }
   svg << "</svg>\n";
   return svg.str();
@@ -463,7 +520,10 @@ std::string Report(const Flags& flags,
          "window problem of the row, the priors included.\n\n";
   if (!flags.picture_link.empty()) {
     out << "![Time per keyframe against the keyframe index]("
-        << flags.picture_link << ")\n\n";
+        << flags.picture_link
+        << ")\n\nThe picture's lines leave out the keyframes that closed a "
+           "loop (ticks on the x axis; their time is the loop closure's, "
+           "in the table below).\n\n";
   }
   out << "| policy | keyframes | mean over the last 1000 / mean over "
          "500-1499 | residual blocks, max | parameter blocks, max | peak "
@@ -509,6 +569,19 @@ std::string Report(const Flags& flags,
          "objects\"). With the scene's default featureless yaw bias the "
          "front end drifts by metres over a lap, and a place revisited that "
          "far off is mapped again until its duplicates are recognised.\n";
+  if (!flags.top_down_link.empty()) {
+    out << "\n![The long scene from above, marginalize's final estimate "
+           "with its loop closures]("
+        << flags.top_down_link
+        << ")\n\nThe long scene from above (`--top-down`): the true "
+           "(dashed) and marginalize's estimated keyframes, every "
+        << flags.top_down_stride
+        << "th, the objects and the map objects as the run ended, and each "
+           "loop closure as an orange line between its two keyframes with a "
+           "ring at the one that closed it, where the final estimate has "
+           "them: two keyframes that saw the same objects, often from "
+           "across their place.\n";
+  }
   return out.str();
 }
 
@@ -555,6 +628,19 @@ int main(int argc, char** argv) {
                  "docs/img/window-time-per-keyframe.svg)");
   app.add_option(
       "--picture-link", flags.picture_link, "how the report links the picture");
+  app.add_option("--top-down",
+                 flags.top_down,
+                 "also draw marginalize's final estimate from above here, "
+                 "with its loop closures (e.g. "
+                 "docs/img/window-long-scene.svg)");
+  app.add_option("--top-down-link",
+                 flags.top_down_link,
+                 "how the report links the top-down picture");
+  app.add_option("--top-down-stride",
+                 flags.top_down_stride,
+                 "the top-down picture draws every this many keyframes")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   app.add_flag("--quiet", flags.quiet, "no progress on stderr");
   CLI11_PARSE(app, argc, argv);
   flags.condition_keyframes =

@@ -97,10 +97,11 @@ struct ObjectObservation {
   std::vector<PoseComponent> components;
   Rigid3d T_co_best;  // representative hypothesis
   Eigen::Vector3d axis_c = Eigen::Vector3d::Zero();  // measured axis, if any
-  // Its rotation carries no information (kPositionOnlySigmaR,
-  // object_edges.h): a view of an object from before the object was turned
-  // to the rotation its later views agree on (ObjectMap::RecordFlip).
-  bool position_only = false;
+  // A view of an object from before the object was turned to the rotation
+  // its later views agree on (ObjectMap::RecordFlip): neither its rotation
+  // nor its position carries information (kUninformativeSigma,
+  // object_edges.h); the detector that turned it had its pose wrong.
+  bool turned_away = false;
   int angle = -1;   // discrete: the angle it constrains; -1: no angle
   int factor = -1;  // its edge's factor index
   // The sigmas its edge was last built with (ObjectEdges::AddFactor): m,

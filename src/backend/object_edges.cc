@@ -93,10 +93,10 @@ void ObjectEdges::AddFactor(int o, int i) {
   // weights): a continuous view weighs its axis with axis_sigma.
   const ObjectState& object = *objects_[o];
   const bool weighs_rotation =
-      !built.position_only &&
+      !built.turned_away &&
       (object.type == SymmetryType::kAsymmetric ||
        (object.type == SymmetryType::kDiscrete && built.angle >= 0));
-  built.edge_sigma_t = sigmas.t;
+  built.edge_sigma_t = built.turned_away ? 0.0 : sigmas.t;
   built.edge_sigma_r = weighs_rotation ? sigmas.r : 0.0;
 }
 
@@ -266,11 +266,9 @@ std::unique_ptr<ceres::CostFunction> ObjectEdges::BuildEdge(
     const Matrix6d sqrt_info = IsotropicPoseSqrtInfo(sigmas->t, sigmas->r);
     for (PoseComponent& c : components) c.sqrt_info = sqrt_info;
   }
-  if (observation.position_only) {
+  if (observation.turned_away) {
     for (PoseComponent& c : components) {
-      c.sqrt_info.bottomRows<3>().setZero();
-      c.sqrt_info.bottomRightCorner<3, 3>() =
-          Eigen::Matrix3d::Identity() / kPositionOnlySigmaR;
+      c.sqrt_info = Matrix6d::Identity() / kUninformativeSigma;
     }
   }
   if (options_.detection_errors == DetectionErrors::kIndependent) {
@@ -307,7 +305,7 @@ std::unique_ptr<ceres::CostFunction> ObjectEdges::BuildEdge(
   axis.a_c = MeasuredAxis(*object, observation, kf->T_wc().q);
   axis.sqrt_info =
       Eigen::Matrix2d::Identity() /
-      (observation.position_only ? kPositionOnlySigmaR : options_.axis_sigma);
+      (observation.turned_away ? kUninformativeSigma : options_.axis_sigma);
   axis.gamma = options_.gamma;
   std::unique_ptr<ContinuousObjectEdge> edge;
   Status status =

@@ -22,11 +22,12 @@
 
 namespace symba::internal {
 
-// The rotation noise of a position-only observation's edge (rad): so large
-// that the rotation carries no information (a whitened residual of at most
-// pi / 1000), while the square-root information stays invertible, as the
-// mixture's normaliser needs.
-constexpr double kPositionOnlySigmaR = 1000.0;
+// The noise of a turned-away view's edge (m and rad,
+// ObjectObservation::turned_away): so large that the view carries no
+// information (a rotation residual of at most pi / 1000 whitened, a
+// position residual of 1 m of 1e-3), while the square-root information stays
+// invertible, as the mixture's normaliser needs.
+constexpr double kUninformativeSigma = 1000.0;
 
 struct EdgeSigmas {
   double t = 0.0;  // m

@@ -389,13 +389,18 @@ void ObjectMap::Turn(int o,
                      double angle,
                      int known_order) {
   ObjectState& object = *objects_[o];
-  graph_->RemoveFromObjectPrior(o, {object.q});
+  // What its views said, rotation and position, came from poses the
+  // detector had wrong: out of its prior, and its views still in the window
+  // carry no information (on YCB-Video 0014 a can made from a detection
+  // turned by 86 degrees and 9 cm off stayed there, held by its first four
+  // views, while the 35 flips that turned it had no edge).
+  if (object.prior_factor >= 0) graph_->Retire(object.prior_factor);
+  object.prior_factor = -1;
   const Eigen::Quaterniond R_old = object.Rotation(-1);
   const Eigen::Quaterniond R_new = R_wo.normalized();
   Eigen::Map<Eigen::Quaterniond>(object.q) = R_new;
-  // Each earlier view keeps its position; its rotation turns with the
-  // object (so that the SE(3) error's translation, which mixes in the
-  // rotation through the lever arm, stays its position's) and is not weighed.
+  // Each earlier view turns with the object (its residual stays small) and
+  // is not weighed.
   const Eigen::Quaterniond turn = R_old.conjugate() * R_new;
   for (size_t i = graph_->FirstLiveObservation(object);
        i < object.observations.size();
@@ -405,7 +410,7 @@ void ObjectMap::Turn(int o,
       c.T_co.q = (c.T_co.q * turn).normalized();
     }
     observation.T_co_best.q = (observation.T_co_best.q * turn).normalized();
-    observation.position_only = true;
+    observation.turned_away = true;
   }
   // Its flips were measured from the rotation it leaves: out of its class's
   // counts (each keyframe's first, as counted), and the views it leaves

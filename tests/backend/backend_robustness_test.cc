@@ -309,6 +309,7 @@ TEST(BackendWindow, MarginalizeKeepsTheWindowAndThePriorsOnly) {
   BackendOptions options;
   options.window_size = 3;
   options.confirm_keyframes = 1;
+  options.confirm_keyframes = 1;
   options.window_policy = WindowPolicy::kMarginalize;
   options.keep_history = true;  // for the batch solve at the end
   std::unique_ptr<Backend> backend;
@@ -369,6 +370,7 @@ TEST(BackendWindow, WithoutHistoryTheWindowIsTheSameAndTheBatchIsRefused) {
       BackendOptions options;
       options.window_size = 3;
       options.confirm_keyframes = 1;
+      options.confirm_keyframes = 1;
       options.window_policy = policy;
       options.keep_history = keep_history;
       std::unique_ptr<Backend> backend;
@@ -397,6 +399,7 @@ TEST(BackendWindow, WithoutHistoryTheWindowIsTheSameAndTheBatchIsRefused) {
   // Before anything left the window the batch solve has every factor.
   BackendOptions options;
   options.window_size = 3;
+  options.confirm_keyframes = 1;
   std::unique_ptr<Backend> backend;
   ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
   ASSERT_TRUE(backend->AddKeyframe(keyframes[0]).ok());
@@ -465,6 +468,7 @@ TEST(BackendWindow, ConditionalChainAnchorsTheWindowMoreThanTheMarginalOne) {
     BackendOptions options;
     options.window_size = 3;
     options.confirm_keyframes = 1;
+    options.confirm_keyframes = 1;
     options.chain_prior = priors[i];
     std::unique_ptr<Backend> backend;
     ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
@@ -489,6 +493,7 @@ TEST(BackendWindow, ConditionHoldsOlderKeyframesAndOldEdgesReenter) {
   BackendOptions options;
   options.window_policy = WindowPolicy::kCondition;
   options.window_size = 3;
+  options.confirm_keyframes = 1;
   options.confirm_keyframes = 1;
   std::unique_ptr<Backend> backend;
   ASSERT_TRUE(Backend::Create(options, std::nullopt, {}, &backend).ok());
@@ -608,6 +613,74 @@ TEST(BackendRobustness, AWanderingGhostOfALostObjectIsNotMapped) {
       EXPECT_EQ(ghost_objects, 20);
     }
   }
+}
+
+// A can made from a detector's wrong pose (YCB-Video 0014): in keyframe 0
+// of 90 the detector reports it turned by 86 degrees about z and 9 cm off,
+// then at its true pose (within 1 cm). The first view makes the object
+// (confirmed at once) and leaves the window (window 3) with its edge,
+// weighed before the class had an estimate; the right views are flips
+// without an edge until they outvote its rotation and turn it, and are
+// weighed with the class's estimate from then on. The turn takes the first
+// view's rotation and position out of the object (a detector that had the
+// rotation wrong had the pose wrong): the can ends within 1.5 cm of the
+// truth. When the turn took the rotation only, the first view's position
+// held the can 8.2 cm off.
+std::vector<KeyframeInput> CanFirstSeenTurned(const Eigen::Vector3d& can) {
+  std::vector<KeyframeInput> keyframes;
+  const Eigen::Quaterniond turned(
+      Eigen::AngleAxisd(86.0 * kPi / 180.0, Eigen::Vector3d::UnitZ()));
+  for (int k = 0; k < 90; ++k) {
+    KeyframeInput kf;
+    kf.id = k;
+    kf.timestamp = 0.1 * k;
+    const Rigid3d T_wc(Eigen::Quaterniond::Identity(),
+                       Eigen::Vector3d(0.01 * k, 0.0, 0.0));
+    if (k == 0) {
+      kf.T_wc = T_wc;
+    } else {
+      Odometry odometry;
+      odometry.T_prev_cur = Rigid3d(Eigen::Quaterniond::Identity(),
+                                    Eigen::Vector3d(0.01, 0.0, 0.0));
+      odometry.sigma_t = 0.005;
+      odometry.sigma_r = 0.01;
+      kf.odometry = odometry;
+    }
+    const bool wrong = k == 0;
+    const Eigen::Vector3d wobble =
+        0.01 * Eigen::Vector3d(std::sin(0.7 * k), std::cos(1.3 * k), 0.0);
+    const Eigen::Vector3d t_w =
+        can + (wrong ? Eigen::Vector3d(0.09, 0.0, 0.0) : wobble);
+    DetectionInput det;
+    det.id = std::to_string(k) + "/can";
+    det.class_name = "can";
+    det.hypotheses.push_back(
+        {Rigid3d(wrong ? turned : Eigen::Quaterniond::Identity(),
+                 T_wc.Inverse() * t_w),
+         1.0});
+    kf.detections.push_back(det);
+    keyframes.push_back(kf);
+  }
+  return keyframes;
+}
+
+TEST(BackendRobustness, AnObjectTurnedAwayFromItsFirstViewsIsPlacedByTheRest) {
+  const Eigen::Vector3d can(0.2, 0.0, 2.0);
+  std::unique_ptr<Backend> backend;
+  BackendOptions options;
+  options.window_size = 3;
+  options.confirm_keyframes = 1;
+  testing::ReplayWindowed(
+      CanFirstSeenTurned(can), options, std::nullopt, &backend);
+  ASSERT_NE(backend, nullptr);
+  EXPECT_EQ(backend->Statistics().objects_turned, 1);
+  const std::vector<MapObjectEstimate> objects = backend->Objects();
+  ASSERT_EQ(objects.size(), 1u);
+  EXPECT_LT((objects[0].t_wo - can).norm(), 0.015)
+      << objects[0].t_wo.transpose();
+  EXPECT_LT(
+      objects[0].poses[0].q.angularDistance(Eigen::Quaterniond::Identity()),
+      5.0 * kPi / 180.0);
 }
 
 }  // namespace

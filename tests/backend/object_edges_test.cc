@@ -232,27 +232,32 @@ TEST_F(ObjectEdgesTest, EdgesWeighWithTheEstimateUnlessTheDetectionClaims) {
 // Each edge records what it weighs with (the noise report's
 // ClassNoiseEstimate::weights): the translation sigma its residual is
 // divided by, before and after the class's estimate, and the rotation
-// sigma only where the edge weighs the rotation with it.
+// sigma only where the edge weighs the rotation with it. A turned-away view
+// weighs nothing: its 10 cm is a residual of 1e-4 whatever the noise, and
+// it records no sigma.
 TEST_F(ObjectEdgesTest, AnEdgeRecordsTheSigmasItWeighsWith) {
   edges_.Add(0, Observation(0.05, 0.01, false));
   edges_.Add(0, Observation(0.05, 0.02, true));
-  ObjectObservation position_only = Observation(0.05, 2.0, false);
-  position_only.position_only = true;
-  edges_.Add(0, position_only);
+  ObjectObservation turned_away = Observation(0.05, 2.0, false);
+  turned_away.turned_away = true;
+  edges_.Add(0, turned_away);
   const auto expect_recorded = [&](const std::vector<double>& t,
                                    const std::vector<double>& r) {
     for (int i = 0; i < 3; ++i) {
       const ObjectObservation& o = objects_[0]->observations[i];
       EXPECT_DOUBLE_EQ(o.edge_sigma_t, t[i]) << i;
-      EXPECT_NEAR(0.1 / TranslationResidual(i), o.edge_sigma_t, 1e-9) << i;
+      EXPECT_NEAR(TranslationResidual(i),
+                  i < 2 ? 0.1 / o.edge_sigma_t : 0.1 / kUninformativeSigma,
+                  1e-9)
+          << i;
       EXPECT_DOUBLE_EQ(o.edge_sigma_r, r[i]) << i;
     }
   };
   // Before the estimate: the components' 5 cm and 0.1 rad.
-  expect_recorded({0.05, 0.05, 0.05}, {0.1, 0.1, 0.0});
+  expect_recorded({0.05, 0.05, 0.0}, {0.1, 0.1, 0.0});
   ASSERT_TRUE(edges_.ApplyNoise("box", Noise(0.5, 0.2)));
   edges_.Rebuild(0);
-  expect_recorded({0.5, 0.02, 2.0}, {0.2, 0.1, 0.0});
+  expect_recorded({0.5, 0.02, 0.0}, {0.2, 0.1, 0.0});
   // A continuous object weighs its axis with axis_sigma, not sigma_r.
   objects_[0]->type = SymmetryType::kContinuous;
   objects_[0]->a_o = Eigen::Vector3d::UnitZ();

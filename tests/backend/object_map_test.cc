@@ -282,9 +282,9 @@ TEST_F(ObjectMapTest, AnObjectMadeFromATurnedDetectionTurnsAndIsNotUpgraded) {
   EXPECT_EQ(FlipOutcomeOf(map_, o, 19, angle), ObjectMap::FlipOutcome::kTurned);
   EXPECT_EQ(object.type, SymmetryType::kAsymmetric);
   EXPECT_LT(object.Rotation(-1).angularDistance(AboutZ(angle)), 1e-12);
-  // The view keeps its position; its rotation turned with the object and is
-  // not weighed (object_edges.h).
-  EXPECT_TRUE(object.observations.front().position_only);
+  // The view turned with the object and carries no information
+  // (object_edges.h).
+  EXPECT_TRUE(object.observations.front().turned_away);
   EXPECT_LT(
       object.observations.front().components.front().T_co.q.angularDistance(
           AboutZ(angle)),

@@ -948,7 +948,7 @@ std::string ResultsMarkdown(const Flags& flags,
          "vertical as dashed lines, discrete angles and asymmetric headings "
          "as ticks, continuous objects with a dashed ring, the loop "
          "closures (orange: a line between the two keyframes, a ring at the "
-         "one that closed it; the orbit scenes close none), a legend and a "
+         "one that closed it, where the run closed any), a legend and a "
          "scale bar. Next to them, `<scene>/seed-<s>/` holds the simulated "
          "log and ground truth and, per method, the replay outputs and "
          "`evaluation.json`.\n\n"

@@ -58,7 +58,7 @@ std::string Escape(const std::string& text) {
 }
 
 // A loop closure's drawing in picture pixels: the line from the closing
-// keyframe (x1, y1) to the earlier one and a ring at the closing one.
+// keyframe (x1, y1) to the other one and a ring at the closing one.
 std::string LoopClosureSvg(
     double x1, double y1, double x2, double y2, const std::string& css_class) {
   return "<g class=\"" + css_class + "\" stroke=\"" + kLoopColor +
@@ -154,8 +154,8 @@ class Svg {
   void LoopClosure(const LoopClosureLine& loop) {
     out_ += LoopClosureSvg(frame_.X(loop.closing.x()),
                            frame_.Y(loop.closing.y()),
-                           frame_.X(loop.earlier.x()),
-                           frame_.Y(loop.earlier.y()),
+                           frame_.X(loop.other.x()),
+                           frame_.Y(loop.other.y()),
                            "loop-closure");
   }
 
@@ -215,12 +215,12 @@ std::vector<LoopClosureLine> LoopClosureLines(
   std::vector<LoopClosureLine> lines;
   for (const LoopClosureReport& loop : loops) {
     const auto closing = position.find(loop.keyframe);
-    const auto earlier = position.find(loop.other);
-    if (loop.waiting || closing == position.end() ||
-        earlier == position.end()) {
+    const auto other = position.find(loop.other);
+    if (loop.waiting || !loop.message.empty() || closing == position.end() ||
+        other == position.end()) {
       continue;
     }
-    lines.push_back({closing->second, earlier->second});
+    lines.push_back({closing->second, other->second});
   }
   return lines;
 }

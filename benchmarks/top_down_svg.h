@@ -27,15 +27,17 @@
 namespace symba::bench {
 
 // A loop closure as drawn: the estimated positions (world frame, m) of the
-// keyframe that closed it and of the earlier keyframe it was related to.
+// keyframe that closed it (LoopClosureReport::keyframe) and of the other
+// keyframe it was related to.
 struct LoopClosureLine {
   Eigen::Vector3d closing = Eigen::Vector3d::Zero();
-  Eigen::Vector3d earlier = Eigen::Vector3d::Zero();
+  Eigen::Vector3d other = Eigen::Vector3d::Zero();
 };
 
 // The closed loop closures of `loops` (Backend::LoopClosures()), their
 // keyframes looked up by id in `keyframes`; a closure still waiting for a
-// solve, or one whose keyframe is not in `keyframes`, is left out.
+// solve or left out (its message says why), or one whose keyframes are not
+// both in `keyframes`, is not drawn.
 std::vector<LoopClosureLine> LoopClosureLines(
     const std::vector<KeyframeEstimate>& keyframes,
     const std::vector<LoopClosureReport>& loops);

@@ -106,9 +106,9 @@ struct ObjectObservation {
   int factor = -1;  // its edge's factor index
   // The sigmas its edge was last built with (ObjectEdges::AddFactor): m,
   // and rad where the edge weighs the rotation with it (an asymmetric
-  // view, a discrete angle's; not a position-only view); 0: no edge built
-  // (yet, or a merged copy's view whose edge left with the copy's prior),
-  // or no rotation weighed so.
+  // view, a discrete angle's); 0: no edge built (yet, or a merged copy's
+  // view whose edge left with the copy's prior), a turned-away view (it
+  // weighs nothing), or no rotation weighed so.
   double edge_sigma_t = 0.0;
   double edge_sigma_r = 0.0;
 };

@@ -223,7 +223,10 @@ std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
     const bool symmetric_axis = object.type != SymmetryType::kAsymmetric &&
                                 options_.method == Method::kSymba;
     if (symmetric_axis) g.axis_w = object.axis_w();
+    const internal::ObjectObservation* first = nullptr;
     for (const internal::ObjectObservation& observation : object.observations) {
+      if (observation.turned_away) continue;  // weighs nothing
+      if (first == nullptr) first = &observation;
       // A symba detection makes one observation per mode.
       if (g.keyframes.empty() || g.keyframes.back() != observation.keyframe) {
         g.keyframes.push_back(observation.keyframe);
@@ -236,10 +239,10 @@ std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
         }
       }
     }
+    if (first == nullptr) continue;  // no view that weighs anything
     // The noise its edges are weighed with (its first detection's).
-    const internal::ObjectObservation& first = object.observations.front();
-    const internal::EdgeSigmas sigmas =
-        internal::EffectiveNoise(first, edges_.AppliedNoise(object.class_name));
+    const internal::EdgeSigmas sigmas = internal::EffectiveNoise(
+        *first, edges_.AppliedNoise(object.class_name));
     g.sigma_t = sigmas.t;
     g.sigma_r = sigmas.r;
     // As the window weighs them: a continuous object's axis with

@@ -399,18 +399,17 @@ void ObjectMap::Turn(int o,
   const Eigen::Quaterniond R_old = object.Rotation(-1);
   const Eigen::Quaterniond R_new = R_wo.normalized();
   Eigen::Map<Eigen::Quaterniond>(object.q) = R_new;
-  // Each earlier view turns with the object (its residual stays small) and
-  // is not weighed.
+  // Every earlier view turns with the object (its residual stays small)
+  // and weighs nothing: in the window, in a batch solve over the kept
+  // history and in the keyframe graph (Backend::Impl::GraphObjects).
   const Eigen::Quaterniond turn = R_old.conjugate() * R_new;
-  for (size_t i = graph_->FirstLiveObservation(object);
-       i < object.observations.size();
-       ++i) {
-    ObjectObservation& observation = object.observations[i];
+  for (ObjectObservation& observation : object.observations) {
     for (PoseComponent& c : observation.components) {
       c.T_co.q = (c.T_co.q * turn).normalized();
     }
     observation.T_co_best.q = (observation.T_co_best.q * turn).normalized();
     observation.turned_away = true;
+    observation.edge_sigma_t = observation.edge_sigma_r = 0.0;
   }
   // Its flips were measured from the rotation it leaves: out of its class's
   // counts (each keyframe's first, as counted), and the views it leaves

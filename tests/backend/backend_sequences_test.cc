@@ -1136,7 +1136,7 @@ TEST(BackendSequences, OnlyARepeatedConsistentFlipUpgrades) {
 // detection reads as asymmetric): the later views are flips of the object
 // until 19 of them against its one view reject both its rotation and a
 // symmetry (docs/backend.md "Real detectors", 5); it then turns to their
-// rotation, its first view keeps its position only, and the rest are views
+// rotation, its first view weighs nothing from then on, the rest are views
 // of it. One object, at the table's pose, no upgrade.
 TEST(BackendSequences, AnObjectMadeFromATurnedDetectionTurnsToItsViews) {
   std::vector<std::vector<int>> modes(26, {0});

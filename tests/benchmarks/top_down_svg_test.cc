@@ -1,8 +1,9 @@
 // Tests of the benchmarks' top-down picture (benchmarks/top_down_svg.h) as
 // far as the loop closures go: LoopClosureLines looks the two keyframes up
-// by id and leaves out a closure still waiting or one whose keyframe is
-// unknown; TopDownSvg draws each closure once, with its ring on the closing
-// keyframe, and counts them in the legend.
+// by id and leaves out a closure still waiting, one that failed (it has a
+// message) and one whose keyframes are not both known; TopDownSvg draws each
+// closure once, with its ring on the closing keyframe, and counts them in
+// the legend.
 #include "top_down_svg.h"
 
 #include <cstddef>
@@ -22,11 +23,15 @@ KeyframeEstimate Keyframe(KeyframeId id, double x, double y) {
   return k;
 }
 
-LoopClosureReport Loop(KeyframeId keyframe, KeyframeId other, bool waiting) {
+LoopClosureReport Loop(KeyframeId keyframe,
+                       KeyframeId other,
+                       bool waiting = false,
+                       const std::string& message = "") {
   LoopClosureReport report;
   report.keyframe = keyframe;
   report.other = other;
   report.waiting = waiting;
+  report.message = message;
   return report;
 }
 
@@ -54,15 +59,17 @@ TEST(LoopClosureLines, LooksUpBothKeyframesAndLeavesOutWhatCannotBeDrawn) {
       Keyframe(3, 1.0, 2.0), Keyframe(7, -4.0, 0.5), Keyframe(9, 6.0, 6.0)};
   const std::vector<LoopClosureLine> lines =
       LoopClosureLines(keyframes,
-                       {Loop(7, 3, false),
-                        Loop(9, 5, false),
-                        Loop(9, 7, true),
-                        Loop(9, 3, false)});
+                       {Loop(7, 3),
+                        Loop(9, 5),
+                        Loop(5, 9),
+                        Loop(9, 7, true, "waits for the next solve"),
+                        Loop(3, 9, false, "the keyframe graph's solve failed"),
+                        Loop(3, 9)});
   ASSERT_EQ(lines.size(), 2u);
   EXPECT_EQ(lines[0].closing, Eigen::Vector3d(-4.0, 0.5, 1.5));
-  EXPECT_EQ(lines[0].earlier, Eigen::Vector3d(1.0, 2.0, 1.5));
-  EXPECT_EQ(lines[1].closing, Eigen::Vector3d(6.0, 6.0, 1.5));
-  EXPECT_EQ(lines[1].earlier, Eigen::Vector3d(1.0, 2.0, 1.5));
+  EXPECT_EQ(lines[0].other, Eigen::Vector3d(1.0, 2.0, 1.5));
+  EXPECT_EQ(lines[1].closing, Eigen::Vector3d(1.0, 2.0, 1.5));
+  EXPECT_EQ(lines[1].other, Eigen::Vector3d(6.0, 6.0, 1.5));
 }
 
 TEST(TopDownSvg, DrawsEachLoopClosureWithItsRingOnTheClosingKeyframe) {
@@ -84,10 +91,14 @@ TEST(TopDownSvg, DrawsEachLoopClosureWithItsRingOnTheClosingKeyframe) {
   EXPECT_EQ(Occurrences(with, "loop closure (2)"), 1);
   const std::size_t first = with.find("class=\"loop-closure\"");
   ASSERT_NE(first, std::string::npos);
-  // The line starts where the ring is: at the closing keyframe.
+  // The line starts where the ring is: at the closing keyframe, right of
+  // and above the other one (x right, y up).
   EXPECT_EQ(Attribute(with, first, "x1"), Attribute(with, first, "cx"));
   EXPECT_EQ(Attribute(with, first, "y1"), Attribute(with, first, "cy"));
-  EXPECT_NE(Attribute(with, first, "x1"), Attribute(with, first, "x2"));
+  EXPECT_GT(std::stod(Attribute(with, first, "x1")),
+            std::stod(Attribute(with, first, "x2")));
+  EXPECT_LT(std::stod(Attribute(with, first, "y1")),
+            std::stod(Attribute(with, first, "y2")));
 
   const std::string without = TopDownSvg(gt, result, "t", "#1f77b4");
   EXPECT_EQ(Occurrences(without, "loop-closure"), 0);

@@ -167,9 +167,10 @@ struct ClassNoiseEstimate {
   // the class's first noise update, hypothesis_sigma_*), and the medians of the
   // sigmas (nullopt: no edge; the rotation's over the edges that weigh the
   // rotation with sigma_r: asymmetric views and a discrete angle's, not a
-  // continuous view, whose axis has axis_sigma, nor a position-only view).
-  // A detection has one edge, one per cluster on a discrete object, none
-  // when it is a rotation outlier that joins without one. Unlike
+  // continuous view, whose axis has axis_sigma). A detection has one edge,
+  // one per cluster on a discrete object, none when it is a rotation
+  // outlier that joins without one; a view an object turned away from
+  // (docs/backend.md "Real detectors", 5) weighs nothing and is not counted. Unlike
   // weight_sigma_*, which holds for a detection stating neither, this is
   // what the edges used.
   struct Weights {

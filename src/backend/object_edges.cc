@@ -271,7 +271,8 @@ std::unique_ptr<ceres::CostFunction> ObjectEdges::BuildEdge(
       c.sqrt_info = Matrix6d::Identity() / kUninformativeSigma;
     }
   }
-  if (options_.detection_errors == DetectionErrors::kIndependent) {
+  if (options_.detection_errors == DetectionErrors::kIndependent &&
+      !observation.turned_away) {
     for (PoseComponent& c : components) {
       c.sqrt_info = DetectionSqrtInfo(c.sqrt_info, c.T_co.t);
     }

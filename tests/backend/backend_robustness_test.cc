@@ -515,6 +515,30 @@ TEST(BackendWindow, ConditionHoldsOlderKeyframesAndOldEdgesReenter) {
   EXPECT_EQ(backend->Objects()[0].observations, 2);
 }
 
+// Keyframe k of a camera stepping 1 cm sideways (x) per keyframe, looking
+// along z: the pose given at keyframe 0, odometry stated at 5 mm and
+// 0.01 rad after it; no detections.
+Rigid3d SideStepPose(int k) {
+  return Rigid3d(Eigen::Quaterniond::Identity(),
+                 Eigen::Vector3d(0.01 * k, 0.0, 0.0));
+}
+
+KeyframeInput SideStepKeyframe(int k) {
+  KeyframeInput kf;
+  kf.id = k;
+  kf.timestamp = 0.1 * k;
+  if (k == 0) {
+    kf.T_wc = SideStepPose(0);
+    return kf;
+  }
+  Odometry odometry;
+  odometry.T_prev_cur = SideStepPose(0).Inverse() * SideStepPose(1);
+  odometry.sigma_t = 0.005;
+  odometry.sigma_r = 0.01;
+  kf.odometry = odometry;
+  return kf;
+}
+
 // A detector that declares no noise and has lost the object part of the
 // time, as DOPE on YCB-Video 0004: a box at (0.2, 0, 2) is detected in
 // every one of 90 keyframes with a slowly turning bias of up to 16 cm (so
@@ -532,21 +556,8 @@ std::vector<KeyframeInput> BoxWithAGhost() {
   const Eigen::Vector3d box(0.2, 0.0, 2.0);
   const Eigen::Vector3d ghost(1.5, 0.0, 2.5);
   for (int k = 0; k < 90; ++k) {
-    KeyframeInput kf;
-    kf.id = k;
-    kf.timestamp = 0.1 * k;
-    const Rigid3d T_wc(Eigen::Quaterniond::Identity(),
-                       Eigen::Vector3d(0.01 * k, 0.0, 0.0));
-    if (k == 0) {
-      kf.T_wc = T_wc;
-    } else {
-      Odometry odometry;
-      odometry.T_prev_cur = Rigid3d(Eigen::Quaterniond::Identity(),
-                                    Eigen::Vector3d(0.01, 0.0, 0.0));
-      odometry.sigma_t = 0.005;
-      odometry.sigma_r = 0.01;
-      kf.odometry = odometry;
-    }
+    KeyframeInput kf = SideStepKeyframe(k);
+    const Rigid3d T_wc = SideStepPose(k);
     auto detect = [&](const std::string& id, const Eigen::Vector3d& t_w) {
       DetectionInput det;
       det.id = std::to_string(k) + "/" + id;
@@ -632,21 +643,8 @@ std::vector<KeyframeInput> CanFirstSeenTurned(const Eigen::Vector3d& can,
   const Eigen::Quaterniond turned(
       Eigen::AngleAxisd(86.0 * kPi / 180.0, Eigen::Vector3d::UnitZ()));
   for (int k = 0; k < 90; ++k) {
-    KeyframeInput kf;
-    kf.id = k;
-    kf.timestamp = 0.1 * k;
-    const Rigid3d T_wc(Eigen::Quaterniond::Identity(),
-                       Eigen::Vector3d(0.01 * k, 0.0, 0.0));
-    if (k == 0) {
-      kf.T_wc = T_wc;
-    } else {
-      Odometry odometry;
-      odometry.T_prev_cur = Rigid3d(Eigen::Quaterniond::Identity(),
-                                    Eigen::Vector3d(0.01, 0.0, 0.0));
-      odometry.sigma_t = 0.005;
-      odometry.sigma_r = 0.01;
-      kf.odometry = odometry;
-    }
+    KeyframeInput kf = SideStepKeyframe(k);
+    const Rigid3d T_wc = SideStepPose(k);
     const bool wrong = k == 0;
     const Eigen::Vector3d wobble =
         0.01 * Eigen::Vector3d(std::sin(0.7 * k), std::cos(1.3 * k), 0.0);

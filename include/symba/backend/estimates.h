@@ -170,9 +170,9 @@ struct ClassNoiseEstimate {
   // continuous view, whose axis has axis_sigma). A detection has one edge,
   // one per cluster on a discrete object, none when it is a rotation
   // outlier that joins without one; a view an object turned away from
-  // (docs/backend.md "Real detectors", 5) weighs nothing and is not counted. Unlike
-  // weight_sigma_*, which holds for a detection stating neither, this is
-  // what the edges used.
+  // (docs/backend.md "Real detectors", 5) weighs nothing and is not
+  // counted. Unlike weight_sigma_*, which holds for a detection stating
+  // neither, this is what the edges used.
   struct Weights {
     int declared = 0;
     int scatter = 0;

@@ -613,6 +613,13 @@ void BindBackend(py::module_& m) {
           "The noise the front end stated for the camera's motion and the "
           "objects' test of it (MotionNoise; docs/backend.md, Real "
           "detectors, 7).")
+      .def(
+          "covariance_noise",
+          [](const J& self) { return self.backend().CovarianceNoise(); },
+          "The noise each group of the keyframe graph's edges was taken to "
+          "have by the last covariances computed from that graph "
+          "(CovarianceNoiseGroup; docs/backend.md, Covariances); empty "
+          "before any or without options.calibrate_covariances.")
       .def_property_readonly(
           "options",
           [](const J& self) { return self.backend().options(); },

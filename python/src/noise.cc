@@ -7,6 +7,7 @@
 // the same numbers (docs/replay.md).
 #include "bindings.h"
 #include "repr.h"
+#include "symba/backend/covariance_noise.h"
 #include "symba/backend/estimates.h"
 
 namespace symba::python {
@@ -189,11 +190,48 @@ void BindMotionNoise(py::module_& m) {
       });
 }
 
+void BindCovarianceNoise(py::module_& m) {
+  using G = CovarianceNoiseGroup;
+  py::class_<G>(m,
+                "CovarianceNoiseGroup",
+                "A group of the keyframe graph's edges as the covariances "
+                "took its noise (docs/backend.md, Covariances): the mean "
+                "squared whitened residual per degree of freedom and the "
+                "correlation of consecutive residuals (translation, "
+                "rotation), whether something else held the estimate, and "
+                "the variance factors applied (1: as stated).")
+      .def_readonly("name", &G::name)
+      .def_readonly("edges", &G::edges)
+      .def_readonly("residuals", &G::residuals)
+      .def_readonly("held", &G::held)
+      .def_readonly("residual_t", &G::residual_t)
+      .def_readonly("residual_r", &G::residual_r)
+      .def_readonly("correlation_t", &G::correlation_t)
+      .def_readonly("correlation_r", &G::correlation_r)
+      .def_readonly("factor_t", &G::factor_t)
+      .def_readonly("factor_r", &G::factor_r)
+      .def("__repr__", [](const py::handle& self) {
+        return AttributeRepr(self,
+                             "CovarianceNoiseGroup",
+                             {"name",
+                              "edges",
+                              "residuals",
+                              "held",
+                              "residual_t",
+                              "residual_r",
+                              "correlation_t",
+                              "correlation_r",
+                              "factor_t",
+                              "factor_r"});
+      });
+}
+
 }  // namespace
 
 void BindNoise(py::module_& m) {
   BindClassNoise(m);
   BindMotionNoise(m);
+  BindCovarianceNoise(m);
 }
 
 }  // namespace symba::python

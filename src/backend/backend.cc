@@ -120,12 +120,14 @@ Status Backend::Impl::ObjectCovariances(
   // reports' source then says what they are.
   if (graph_.LastSolveHeldThePast() && !map_loaded_) {
     std::vector<internal::GraphObject> objects;
-    const PoseGraph graph = CurrentKeyframeGraph(&objects);
+    PoseGraphCovarianceOptions options;
+    const PoseGraph graph = CurrentKeyframeGraph(&objects, &options);
     const Status world =
         internal::InWorldFrame(graph,
                                static_cast<int>(trajectory_.keyframes().size()),
                                objects,
                                map_.objects(),
+                               options,
                                &reports);
     static_cast<void>(world);
   }
@@ -134,18 +136,29 @@ Status Backend::Impl::ObjectCovariances(
 }
 
 PoseGraph Backend::Impl::CurrentKeyframeGraph(
-    std::vector<internal::GraphObject>* objects) const {
+    std::vector<internal::GraphObject>* objects,
+    PoseGraphCovarianceOptions* options) const {
   const internal::KeyframeList& keyframes = trajectory_.keyframes();
   const int window_begin =
       static_cast<int>(keyframes.size()) - options_.window_size;
   *objects = GraphObjects();
-  return internal::MakeKeyframeGraph(keyframes, window_begin, loops_, *objects);
+  std::vector<internal::GraphEdgeRole> roles;
+  PoseGraph graph = internal::MakeKeyframeGraph(
+      keyframes, window_begin, loops_, *objects, &roles);
+  *options = internal::KeyframeGraphCovarianceOptions(
+      static_cast<int>(keyframes.size()), *objects);
+  if (options_.calibrate_covariances) {
+    internal::CalibrateGraphNoise(
+        graph, roles, &options->noise_factors, &covariance_noise_);
+  } else {
+    covariance_noise_.clear();
+  }
+  return graph;
 }
 
 Status Backend::Impl::KeyframeCovariances(
     const std::vector<KeyframeId>& ids,
     std::vector<KeyframeCovariance>* covariances) const {
-  const internal::KeyframeList& keyframes = trajectory_.keyframes();
   // Keyframe 0 holds the gauge: known, and no vertex to ask about.
   std::vector<int64_t> vertices;
   for (const KeyframeId id : ids) {
@@ -159,13 +172,10 @@ Status Backend::Impl::KeyframeCovariances(
   std::vector<Matrix6d> marginals;
   if (!vertices.empty()) {
     std::vector<internal::GraphObject> objects;
-    const PoseGraph graph = CurrentKeyframeGraph(&objects);
+    PoseGraphCovarianceOptions options;
+    const PoseGraph graph = CurrentKeyframeGraph(&objects, &options);
     const Status status =
-        PoseGraphCovariances(graph,
-                             vertices,
-                             internal::KeyframeGraphCovarianceOptions(
-                                 static_cast<int>(keyframes.size()), objects),
-                             &marginals);
+        PoseGraphCovariances(graph, vertices, options, &marginals);
     if (!status.ok()) {
       return Status::Error("keyframe covariances: " + status.message());
     }
@@ -582,6 +592,10 @@ Status Backend::KeyframeCovariances(
     const std::vector<KeyframeId>& ids,
     std::vector<KeyframeCovariance>* covariances) const {
   return impl_->KeyframeCovariances(ids, covariances);
+}
+
+std::vector<CovarianceNoiseGroup> Backend::CovarianceNoise() const {
+  return impl_->CovarianceNoise();
 }
 
 Status Backend::ObjectCovariances(

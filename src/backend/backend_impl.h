@@ -66,6 +66,9 @@ class Backend::Impl {
   // The closed loops' reports and the waiting ones'.
   std::vector<LoopClosureReport> LoopClosures() const;
   Status ObjectCovariances(std::vector<MapObjectCovariance>* covariances);
+  std::vector<CovarianceNoiseGroup> CovarianceNoise() const {
+    return covariance_noise_;
+  }
   Status KeyframeCovariances(
       const std::vector<KeyframeId>& ids,
       std::vector<KeyframeCovariance>* covariances) const;
@@ -231,9 +234,12 @@ class Backend::Impl {
   std::vector<internal::GraphObject> GraphObjects() const;
   // The keyframe graph as it stands (MakeKeyframeGraph of every keyframe,
   // the window's first, the loops and *objects = GraphObjects()), for its
-  // covariances.
-  PoseGraph CurrentKeyframeGraph(
-      std::vector<internal::GraphObject>* objects) const;
+  // covariances, with the options to compute them with: the objects whose
+  // rotation it does not measure held, and with calibrate_covariances each
+  // edge's noise as its group's residuals show it (CalibrateGraphNoise;
+  // the groups kept for CovarianceNoise()).
+  PoseGraph CurrentKeyframeGraph(std::vector<internal::GraphObject>* objects,
+                                 PoseGraphCovarianceOptions* options) const;
   // Each object's rigid move: with the window if only the window saw it
   // (keyframes from window_begin on), else to its optimised vertex, or by
   // the mean move of its detectors if it is not in the graph; identity for
@@ -279,6 +285,9 @@ class Backend::Impl {
   // The hypotheses' scatter of each detection of the keyframe being added
   // that is weighed by it (internal::UsableScatter).
   std::vector<std::optional<HypothesisScatter>> scatters_;
+  // The noise groups the last covariances from the keyframe graph were
+  // computed with (CurrentKeyframeGraph); empty before any.
+  mutable std::vector<CovarianceNoiseGroup> covariance_noise_;
 };
 
 }  // namespace symba

@@ -72,6 +72,11 @@ void AppendWindowOptions(OptionTable<BackendOptions>* table) {
                         &O::keep_history,
                         "keep the factors of keyframes that left the window "
                         "for a batch solve (otherwise they are freed)"),
+          BoolOption<O>("calibrate_covariances",
+                        &O::calibrate_covariances,
+                        "keyframe graph covariances with each edge group's "
+                        "noise as the estimate's residuals show it (otherwise "
+                        "as stated)"),
           IntOption<O>("max_iterations",
                        &O::max_iterations,
                        AtLeast(1),

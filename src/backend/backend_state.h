@@ -71,6 +71,9 @@ struct KeyframeState {
   // as the motion factors state it.
   double summed_motion_variance_t = 0.0;
   double summed_motion_variance_r = 0.0;
+  // Map points observed in this keyframe and the one before it (their
+  // relative pose is then held by more than the camera motion).
+  int points_shared_with_previous = 0;
   // Every factor touching this keyframe while it is in the window (freed
   // when it leaves).
   std::vector<int> factors;

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
 #include <utility>
 
 #include "symba/geometry/swing_twist.h"
@@ -31,6 +34,35 @@ Matrix6d DiagonalInformation(double sigma_t, double sigma_r) {
   information.bottomRightCorner<3, 3>().diagonal().setConstant(
       1.0 / (sigma_r * sigma_r));
   return information;
+}
+
+// A camera step's role: its group the quarter octaves of its sigmas (a
+// front end that knows when it has features says so), named by the first
+// step's sigmas in `names`; held by the map points its keyframes shared
+// (`from_previous`: the step is from k - 1); measured unless the window's
+// estimate is its measurement.
+GraphEdgeRole StepRole(const KeyframeState& kf,
+                       const StepSigmas& sigmas,
+                       bool from_previous,
+                       bool in_window,
+                       std::map<std::pair<long, long>, std::string>* names) {
+  auto quarter_octave = [](double sigma) {
+    return std::lround(4.0 * std::log2(sigma));
+  };
+  char name[96];
+  std::snprintf(
+      name, sizeof name, "motion %.3g m %.3g rad", sigmas.t, sigmas.r);
+  const std::string& group =
+      names
+          ->try_emplace({quarter_octave(sigmas.t), quarter_octave(sigmas.r)},
+                        name)
+          .first->second;
+  GraphEdgeRole role;
+  role.held =
+      from_previous && kf.points_shared_with_previous >= kMinSharedPoints;
+  role.group = group + (role.held ? ", shared points" : ", no shared points");
+  role.measured = !in_window;
+  return role;
 }
 
 }  // namespace
@@ -76,7 +108,10 @@ ChainStep MeasuredStep(const KeyframeList& keyframes, int k, int window_begin) {
 PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
                             int window_begin,
                             const std::vector<LoopConstraint>& loops,
-                            const std::vector<GraphObject>& objects) {
+                            const std::vector<GraphObject>& objects,
+                            std::vector<GraphEdgeRole>* roles) {
+  std::vector<GraphEdgeRole> edge_roles;
+  std::map<std::pair<long, long>, std::string> step_groups;
   PoseGraph graph;
   const int n = static_cast<int>(keyframes.size());
   for (int k = 0; k < n; ++k) {
@@ -92,6 +127,14 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
     edge.T_ab = step.T;
     edge.information = DiagonalInformation(sigmas.t, sigmas.r);
     graph.edges.push_back(std::move(edge));
+    if (roles != nullptr) {
+      edge_roles.push_back(StepRole(*keyframes[k],
+                                    sigmas,
+                                    step.from == k - 1,
+                                    k - 1 >= window_begin,
+                                    &step_groups));
+      if (k >= 2) edge_roles.back().previous = k - 2;
+    }
   }
   for (const LoopConstraint& loop : loops) {
     PoseGraphEdge edge;
@@ -100,6 +143,7 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
     edge.T_ab = Normalized(loop.T);
     edge.information = DiagonalInformation(loop.sigma_t, loop.sigma_r);
     graph.edges.push_back(std::move(edge));
+    if (roles != nullptr) edge_roles.emplace_back();  // as stated
   }
   for (size_t o = 0; o < objects.size(); ++o) {
     const GraphObject& object = objects[o];
@@ -122,7 +166,18 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
             ? AxisInformation(T_wo.q.inverse() * object.axis_w,
                               weight / (object.sigma_axis * object.sigma_axis))
             : Eigen::Matrix3d::Zero();
+    GraphEdgeRole role;
+    role.group = "detections " + object.class_name +
+                 (count >= kMinHeldViews ? "" : ", few views");
+    role.held = count >= kMinHeldViews;
+    role.measured = !object.measured.empty();
+    role.weight = weight;
+    role.rotation_dof = object.rotation ? 3 : (object.HasAxis() ? 2 : 0);
     for (int e = 0; e < edges; ++e) {
+      if (roles != nullptr) {
+        role.previous = e > 0 ? static_cast<int>(graph.edges.size()) - 1 : -1;
+        edge_roles.push_back(role);
+      }
       // Spread over the detections, the first and the last among them.
       const int i = edges == 1 ? count - 1
                                : static_cast<int>(static_cast<int64_t>(e) *
@@ -146,6 +201,7 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
       graph.edges.push_back(std::move(edge));
     }
   }
+  if (roles != nullptr) *roles = std::move(edge_roles);
   return graph;
 }
 

@@ -30,9 +30,11 @@
 #ifndef SYMBA_SRC_BACKEND_KEYFRAME_GRAPH_H_
 #define SYMBA_SRC_BACKEND_KEYFRAME_GRAPH_H_
 
+#include <string>
 #include <vector>
 
 #include "backend/factor_graph.h"
+#include "backend/graph_noise_calibration.h"
 #include "symba/common/status.h"
 #include "symba/geometry/rigid3.h"
 #include "symba/pose_graph/optimize_pose_graph.h"
@@ -93,6 +95,9 @@ struct GraphObject {
   // A loaded map's object: where the map has it (a constant vertex; its
   // prior holds it there in the window's solves).
   bool fixed = false;
+  // Its class: its edges' noise group for the covariances
+  // (graph_noise_calibration.h).
+  std::string class_name;
 
   bool HasAxis() const {
     return !rotation && !measured_axes.empty() &&
@@ -145,11 +150,21 @@ ChainStep MeasuredStep(const KeyframeList& keyframes, int k, int window_begin);
 
 // The graph above for `keyframes` (at least one), the window's first
 // keyframe (index; <= 0: all in the window), `loops` and `objects` (vertex
-// ids: keyframe indices, then keyframes.size() + object index).
+// ids: keyframe indices, then keyframes.size() + object index). With
+// `roles`, each edge's role in the covariances' noise calibration
+// (graph_noise_calibration.h): a step's group is its stated sigmas (to a
+// quarter octave), held where its two keyframes shared at least
+// kMinSharedPoints map points, measured unless both are in the window (the
+// estimate is its measurement); an object's edges are its class's group,
+// held from kMinHeldViews detecting keyframes on; loop closures keep their
+// noise.
 PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
                             int window_begin,
                             const std::vector<LoopConstraint>& loops,
-                            const std::vector<GraphObject>& objects);
+                            const std::vector<GraphObject>& objects,
+                            std::vector<GraphEdgeRole>* roles = nullptr);
+inline constexpr int kMinSharedPoints = 6;
+inline constexpr int kMinHeldViews = 10;
 
 // Optimises that graph; on success (*keyframe_poses)[k] is keyframe k's
 // optimised pose and (*object_poses)[o] object o's. On an error nothing is

@@ -219,6 +219,7 @@ std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
                  options_.method == Method::kSymba;
     g.T_wo = Rigid3d(object.Rotation(-1), object.position());
     g.fixed = internal::IsLoaded(object);
+    g.class_name = object.class_name;
     // A symmetric object's detections measure its axis (symba only).
     const bool symmetric_axis = object.type != SymmetryType::kAsymmetric &&
                                 options_.method == Method::kSymba;

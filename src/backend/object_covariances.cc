@@ -142,6 +142,7 @@ Status InWorldFrame(const PoseGraph& graph,
                     int num_keyframes,
                     const std::vector<GraphObject>& objects,
                     const ObjectList& states,
+                    const PoseGraphCovarianceOptions& options,
                     std::vector<MapObjectCovariance>* covariances) {
   std::vector<int64_t> vertices;
   std::vector<int> vertex_object;
@@ -151,11 +152,8 @@ Status InWorldFrame(const PoseGraph& graph,
     vertex_object.push_back(static_cast<int>(o));
   }
   std::vector<Matrix6d> marginals;
-  const Status status = PoseGraphCovariances(
-      graph,
-      vertices,
-      KeyframeGraphCovarianceOptions(num_keyframes, objects),
-      &marginals);
+  const Status status =
+      PoseGraphCovariances(graph, vertices, options, &marginals);
   if (!status.ok()) return status;
 
   std::map<ObjectId, MapObjectCovariance> reports;

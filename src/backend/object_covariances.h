@@ -40,12 +40,14 @@ Status ObjectCovariances(const ObjectList& objects,
 // the world rotation vector's covariance C_w. Angle variances stay the
 // solve's or the prior's. `covariances` (ObjectCovariances' reports) are
 // replaced in the order of `states` by one report per confirmed object
-// that either covers. Fails (nothing changed) where the graph's
-// information is rank deficient.
+// that either covers. `options`: PoseGraphCovariances' for that graph
+// (KeyframeGraphCovarianceOptions, with or without noise factors). Fails
+// (nothing changed) where the graph's information is rank deficient.
 Status InWorldFrame(const PoseGraph& graph,
                     int num_keyframes,
                     const std::vector<GraphObject>& objects,
                     const ObjectList& states,
+                    const PoseGraphCovarianceOptions& options,
                     std::vector<MapObjectCovariance>* covariances);
 
 }  // namespace symba::internal

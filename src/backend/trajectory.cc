@@ -185,6 +185,7 @@ void Trajectory::AddPointObservations(int k, const KeyframeInput& input) {
       continue;
     }
     PointState& point = *points_[it->second];
+    if (k > 0 && point.last_keyframe == k - 1) ++kf.points_shared_with_previous;
     if (point.first_keyframe < 0) point.first_keyframe = k;
     point.last_keyframe = k;
     FactorRecord record;

@@ -1,13 +1,18 @@
 #include "symba/pose_graph/pose_graph_covariance.h"
 
+#include <cmath>
+#include <map>
 #include <set>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <ceres/covariance.h>
+#include <ceres/crs_matrix.h>
 #include <ceres/manifold.h>
 #include <ceres/problem.h>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 
 #include "pose_graph/pose_graph_problem.h"
 
@@ -69,6 +74,129 @@ Matrix6d VertexCovariance(const ceres::Covariance& covariance,
   return 0.5 * (c + c.transpose());
 }
 
+Status CheckNoiseFactors(const std::vector<EdgeNoiseFactors>& factors,
+                         size_t edges) {
+  if (factors.size() != edges) {
+    return Status::Error(
+        "pose graph covariance: " + std::to_string(factors.size()) +
+        " noise factors for " + std::to_string(edges) + " edges");
+  }
+  for (size_t e = 0; e < factors.size(); ++e) {
+    for (const double f : {factors[e].translation, factors[e].rotation}) {
+      if (!(f > 0.0) || !std::isfinite(f)) {
+        return Status::Error("pose graph covariance: edge " +
+                             std::to_string(e) + "'s noise factor " +
+                             std::to_string(f) + " is not finite and positive");
+      }
+    }
+  }
+  return Status::Ok();
+}
+
+// The free blocks' tangent columns: each free block of the problem (every
+// vertex's t, then q) and where its columns start.
+struct TangentColumns {
+  std::vector<double*> blocks;
+  std::map<const double*, int> start;
+  int count = 0;
+};
+
+TangentColumns FreeColumns(internal::PreparedPoseGraph* prepared,
+                           ceres::Problem* problem) {
+  TangentColumns columns;
+  for (Rigid3d& state : prepared->states) {
+    for (double* block : {state.t.data(), state.q.coeffs().data()}) {
+      if (problem->IsParameterBlockConstant(block)) continue;
+      columns.blocks.push_back(block);
+      columns.start[block] = columns.count;
+      columns.count += 3;  // t is Euclidean, q's tangent has size 3
+    }
+  }
+  return columns;
+}
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+
+// The whitened Jacobian at the poses, rows in edge order (6 per edge), the
+// columns' of `columns`; with `factors`, row i scaled by sqrt(F_i).
+SparseMatrix WhitenedJacobian(const ceres::CRSMatrix& crs,
+                              const std::vector<EdgeNoiseFactors>* factors) {
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(crs.values.size());
+  for (int row = 0; row < crs.num_rows; ++row) {
+    double scale = 1.0;
+    if (factors != nullptr) {
+      const EdgeNoiseFactors& f = (*factors)[row / 6];
+      scale = std::sqrt(row % 6 < 3 ? f.translation : f.rotation);
+    }
+    for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k) {
+      entries.emplace_back(row, crs.cols[k], scale * crs.values[k]);
+    }
+  }
+  SparseMatrix J(crs.num_rows, crs.num_cols);
+  J.setFromTriplets(entries.begin(), entries.end());
+  return J;
+}
+
+// Below this ratio of the smallest to the largest pivot of H's LDL^T the
+// information is taken as rank deficient (Ceres's default reciprocal
+// condition number for its covariances).
+constexpr double kMinPivotRatio = 1e-14;
+
+// H^-1 (J^T F J) H^-1 at each of `free` (a vertex's [t; w] block, zero
+// where it is held).
+Status SandwichCovariances(internal::PreparedPoseGraph* prepared,
+                           ceres::Problem* problem,
+                           const std::vector<FreeBlocks>& free,
+                           const std::vector<EdgeNoiseFactors>& factors,
+                           std::vector<Matrix6d>* out) {
+  const TangentColumns columns = FreeColumns(prepared, problem);
+  if (columns.count == 0) {  // everything held: known
+    out->assign(free.size(), Matrix6d::Zero());
+    return Status::Ok();
+  }
+  ceres::Problem::EvaluateOptions evaluate;
+  evaluate.parameter_blocks = columns.blocks;
+  // The problem has one residual block per edge, added in edge order, and
+  // lists them in that order.
+  problem->GetResidualBlocks(&evaluate.residual_blocks);
+  ceres::CRSMatrix crs;
+  if (!problem->Evaluate(evaluate, nullptr, nullptr, nullptr, &crs)) {
+    return Status::Error(
+        "pose graph covariance: the Jacobian could not be evaluated");
+  }
+  const SparseMatrix J = WhitenedJacobian(crs, nullptr);
+  const SparseMatrix JF = WhitenedJacobian(crs, &factors);
+  const SparseMatrix H = SparseMatrix(J.transpose()) * J;
+  const Eigen::SimplicialLDLT<SparseMatrix> ldlt(H);
+  const Eigen::VectorXd pivots = ldlt.vectorD();
+  if (ldlt.info() != Eigen::Success || pivots.size() == 0 ||
+      !(pivots.minCoeff() > kMinPivotRatio * pivots.maxCoeff())) {
+    return Status::Error(
+        "pose graph covariance: the information is rank deficient (a vertex "
+        "is not determined by its edges)");
+  }
+  std::vector<Matrix6d> covariances;
+  covariances.reserve(free.size());
+  for (const FreeBlocks& v : free) {
+    // E picks the vertex's [t; w] out of the tangent (w = 2 d).
+    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(columns.count, 6);
+    if (v.t != nullptr) {
+      E.block<3, 3>(columns.start.at(v.t), 0).setIdentity();
+    }
+    if (v.q != nullptr) {
+      E.block<3, 3>(columns.start.at(v.q), 3) =
+          kRotationPerTangent * Eigen::Matrix3d::Identity();
+    }
+    const Eigen::MatrixXd X = ldlt.solve(E);  // H^-1 E
+    const Eigen::MatrixXd Y = JF * X;         // sqrt(F) J H^-1 E
+    const Matrix6d c = Y.transpose() * Y;
+    covariances.push_back(0.5 * (c + c.transpose()));
+  }
+  *out = std::move(covariances);
+  return Status::Ok();
+}
+
 }  // namespace
 
 Status PoseGraphCovariances(const PoseGraph& graph,
@@ -78,6 +206,11 @@ Status PoseGraphCovariances(const PoseGraph& graph,
   if (options.num_threads < 1) {
     return Status::Error("pose graph covariance: num_threads = " +
                          std::to_string(options.num_threads) + " is below 1");
+  }
+  if (!options.noise_factors.empty()) {
+    const Status s =
+        CheckNoiseFactors(options.noise_factors, graph.edges.size());
+    if (!s.ok()) return s;
   }
   internal::PreparedPoseGraph prepared;
   const Status s = internal::PreparePoseGraph(graph, &prepared);
@@ -104,6 +237,10 @@ Status PoseGraphCovariances(const PoseGraph& graph,
   for (const int64_t id : vertices) {
     free.push_back(
         FreeBlocksOf(prepared.states[prepared.index_of.at(id)], &problem));
+  }
+  if (!options.noise_factors.empty()) {
+    return SandwichCovariances(
+        &prepared, &problem, free, options.noise_factors, covariances);
   }
   const std::vector<std::pair<const double*, const double*>> pairs =
       Pairs(free);

@@ -33,6 +33,7 @@ void AttachCovariances(Backend* backend, ReplayResult* replay) {
   replay->covariance_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
+  replay->covariance_noise = backend->CovarianceNoise();
   if (!status.ok()) {
     replay->covariance_note = status.message();
     return;

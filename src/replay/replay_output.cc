@@ -235,6 +235,22 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
   if (!result.covariance_note.empty()) {
     json.Member("unavailable", result.covariance_note);
   }
+  json.Key("noise").BeginArray();
+  for (const CovarianceNoiseGroup& g : result.covariance_noise) {
+    json.BeginObject()
+        .Member("group", g.name)
+        .Member("edges", g.edges)
+        .Member("residuals", g.residuals)
+        .Member("held", g.held)
+        .Member("residual_t", g.residual_t)
+        .Member("residual_r", g.residual_r)
+        .Member("correlation_t", g.correlation_t)
+        .Member("correlation_r", g.correlation_r)
+        .Member("factor_t", g.factor_t)
+        .Member("factor_r", g.factor_r)
+        .EndObject();
+  }
+  json.EndArray();
   json.EndObject();
   json.Key("timing")
       .BeginObject()

@@ -147,5 +147,103 @@ TEST(PoseGraphCovariances, RefusesWhatItCannotAnswer) {
   EXPECT_TRUE(c[0].isIdentity(0.0));
 }
 
+// The chain with a third edge 0 -> 2 that agrees with the other two, so that
+// every vertex has more than one path to the gauge.
+PoseGraph ChainWithShortcut() {
+  PoseGraph graph = Chain();
+  graph.edges.push_back(
+      {0, 2, graph.poses[0].Inverse() * graph.poses[2], 2.0 * Information()});
+  return graph;
+}
+
+std::vector<EdgeNoiseFactors> Factors(size_t edges,
+                                      double translation,
+                                      double rotation) {
+  return std::vector<EdgeNoiseFactors>(edges, {translation, rotation});
+}
+
+void ExpectRelativelyNear(const Matrix6d& actual, const Matrix6d& expected) {
+  EXPECT_LT((actual - expected).cwiseAbs().maxCoeff(),
+            1e-9 * expected.cwiseAbs().maxCoeff())
+      << "actual\n"
+      << actual << "\nexpected\n"
+      << expected;
+}
+
+TEST(PoseGraphCovariances, NoiseAsItsInformationSaysGivesTheInverse) {
+  // Factors of one: H^-1 (J^T J) H^-1 = H^-1, by another route (Eigen's
+  // sparse LDL^T against Ceres's covariance); factors of c: c H^-1.
+  const PoseGraph graph = ChainWithShortcut();
+  std::vector<Matrix6d> inverse;
+  ASSERT_TRUE(PoseGraphCovariances(graph, {1, 2}, {}, &inverse).ok());
+  PoseGraphCovarianceOptions options;
+  options.noise_factors = Factors(graph.edges.size(), 1.0, 1.0);
+  std::vector<Matrix6d> sandwich;
+  ASSERT_TRUE(PoseGraphCovariances(graph, {1, 2}, options, &sandwich).ok());
+  ASSERT_EQ(sandwich.size(), 2u);
+  ExpectRelativelyNear(sandwich[0], inverse[0]);
+  ExpectRelativelyNear(sandwich[1], inverse[1]);
+  options.noise_factors = Factors(graph.edges.size(), 2.5, 2.5);
+  ASSERT_TRUE(PoseGraphCovariances(graph, {1, 2}, options, &sandwich).ok());
+  ExpectRelativelyNear(sandwich[0], 2.5 * inverse[0]);
+  ExpectRelativelyNear(sandwich[1], 2.5 * inverse[1]);
+  // A held rotation and the gauge, as without factors.
+  options.rotation_held = {1};
+  PoseGraphCovarianceOptions held;
+  held.rotation_held = {1};
+  ASSERT_TRUE(PoseGraphCovariances(graph, {0, 1, 2}, held, &inverse).ok());
+  ASSERT_TRUE(PoseGraphCovariances(graph, {0, 1, 2}, options, &sandwich).ok());
+  EXPECT_TRUE(sandwich[0].isZero(0.0));
+  EXPECT_TRUE((sandwich[1].bottomRightCorner<3, 3>().isZero(0.0)));
+  ExpectRelativelyNear(sandwich[1], 2.5 * inverse[1]);
+  ExpectRelativelyNear(sandwich[2], 2.5 * inverse[2]);
+}
+
+TEST(PoseGraphCovariances,
+     TwoEdgesWeighedAlikeButNoisyUnlikeAverageTheirNoise) {
+  // Vertex 1 measured twice from the fixed vertex 0 with one information
+  // (sigmas s_t, s_r), the second measurement's noise nine times the
+  // variance its information says. The estimate is the mean of the two:
+  // variance (s^2 + 9 s^2) / 4 = 2.5 s^2 per axis, where H^-1 says s^2 / 2.
+  // Translation factors only: the rotation keeps s_r^2 / 2.
+  PoseGraph graph;
+  const Rigid3d T_w1(Eigen::Quaterniond::Identity(), Eigen::Vector3d(1, 2, 0));
+  graph.poses[0] = Rigid3d();
+  graph.poses[1] = T_w1;
+  graph.edges.push_back({0, 1, T_w1, Information()});
+  graph.edges.push_back({0, 1, T_w1, Information()});
+  graph.fixed.insert(0);
+  PoseGraphCovarianceOptions options;
+  options.noise_factors = {{1.0, 1.0}, {9.0, 1.0}};
+  std::vector<Matrix6d> c;
+  ASSERT_TRUE(PoseGraphCovariances(graph, {1}, options, &c).ok());
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  ExpectNear(c[0].topLeftCorner<3, 3>(), 2.5 * kSigmaT * kSigmaT * I);
+  ExpectNear(c[0].bottomRightCorner<3, 3>(), 0.5 * kSigmaR * kSigmaR * I);
+  ExpectNear(c[0].topRightCorner<3, 3>(), Eigen::Matrix3d::Zero());
+}
+
+TEST(PoseGraphCovariances, RefusesNoiseFactorsItCannotUse) {
+  std::vector<Matrix6d> c = {Matrix6d::Identity()};
+  PoseGraphCovarianceOptions options;
+  options.noise_factors = Factors(1, 1.0, 1.0);
+  Status s = PoseGraphCovariances(Chain(), {1}, options, &c);
+  EXPECT_EQ(s.message(), "pose graph covariance: 1 noise factors for 2 edges");
+  options.noise_factors = {{1.0, 1.0}, {1.0, 0.0}};
+  s = PoseGraphCovariances(Chain(), {1}, options, &c);
+  EXPECT_EQ(s.message(),
+            "pose graph covariance: edge 1's noise factor 0.000000 is not "
+            "finite and positive");
+  // A rotation nothing measures: rank deficient by this route too.
+  PoseGraph graph = Chain();
+  graph.edges[1].information.bottomRightCorner<3, 3>() *= 1e-30;
+  options.noise_factors = Factors(2, 1.0, 1.0);
+  s = PoseGraphCovariances(graph, {2}, options, &c);
+  EXPECT_NE(s.message().find("rank deficient"), std::string::npos)
+      << s.message();
+  ASSERT_EQ(c.size(), 1u);  // untouched
+  EXPECT_TRUE(c[0].isIdentity(0.0));
+}
+
 }  // namespace
 }  // namespace symba

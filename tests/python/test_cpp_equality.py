@@ -101,6 +101,38 @@ def test_backend_keyframe_by_keyframe_matches_replay(simulated_log):
     assert stats.solves == 24
 
 
+def test_covariance_noise_is_what_the_covariances_used(simulated_log):
+    header, keyframes = symba.read_log(str(simulated_log))
+
+    def run(calibrate):
+        options = symba.BackendOptions()
+        options.calibrate_covariances = calibrate
+        backend = symba.Backend(options, intrinsics=header.camera,
+                                class_priors=header.classes)
+        for keyframe in keyframes:
+            backend.add_keyframe(keyframe)
+            backend.optimize_window()
+        assert backend.covariance_noise() == []  # none computed yet
+        return backend, backend.object_covariances()
+
+    calibrated, with_factors = run(True)
+    groups = calibrated.covariance_noise()
+    assert any(g.name.startswith("motion ") for g in groups)
+    assert any(g.name.startswith("detections ") for g in groups)
+    for g in groups:
+        assert g.edges >= g.residuals >= 0
+        assert g.factor_t > 0 and g.factor_r > 0
+        assert 0 <= g.correlation_t <= 0.98
+        # A group the residuals may not show better than stated: at least 1.
+        if not g.held:
+            assert g.factor_t >= 1 and g.factor_r >= 1
+    stated, as_stated = run(False)
+    assert stated.covariance_noise() == []
+    assert [c["id"] for c in as_stated] == [c["id"] for c in with_factors]
+    assert any(not np.allclose(a["position"], b["position"])
+               for a, b in zip(as_stated, with_factors))
+
+
 def test_batch_replay_matches_the_cli(simulated_log, cli, tmp_path):
     out = tmp_path / "out"
     cli("replay", simulated_log, "--out", out, "--quiet", "--mode", "batch",

@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "symba/backend/backend_options.h"
+#include "symba/backend/covariance_noise.h"
 #include "symba/backend/estimates.h"
 #include "symba/backend/keyframe_covariance.h"
 #include "symba/backend/keyframe_input.h"
@@ -159,6 +160,11 @@ class Backend {
   // the next solve's result at round-off level). Fails if that problem is
   // rank deficient.
   Status ObjectCovariances(std::vector<MapObjectCovariance>* covariances);
+  // The noise each group of the keyframe graph's edges was taken to have by
+  // the last ObjectCovariances or KeyframeCovariances that used the graph
+  // (docs/backend.md "Covariances"; BackendOptions::calibrate_covariances);
+  // empty before any.
+  std::vector<CovarianceNoiseGroup> CovarianceNoise() const;
   // The keyframes `ids`' covariances (in that order), each its marginal in
   // the keyframe graph (docs/backend.md "Covariances": every keyframe, the
   // camera motion, the loop closures and the objects' detections; no map

@@ -141,6 +141,11 @@ struct BackendOptions {
   int max_iterations = 10;
   int batch_max_iterations = 50;
   int num_threads = 1;
+  // The keyframe graph's covariances (docs/backend.md "Covariances"): each
+  // group of edges' noise as the residuals of the estimate show it, the
+  // covariance that of the estimate the stated noise made (true), or the
+  // inverse of the stated information (false).
+  bool calibrate_covariances = true;
 
   // Default hypothesis noise when a detection gives none (m, rad).
   double hypothesis_sigma_t = 0.05;

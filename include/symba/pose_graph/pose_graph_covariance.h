@@ -17,6 +17,15 @@
 
 namespace symba {
 
+// How much larger (or smaller) an edge's noise is than its information
+// says, as variance factors of its whitened residual's rows: the first
+// three (the translation, for an information without translation-rotation
+// coupling) and the last three.
+struct EdgeNoiseFactors {
+  double translation = 1.0;
+  double rotation = 1.0;
+};
+
 struct PoseGraphCovarianceOptions {
   PoseGraphRotationError rotation_error = PoseGraphRotationError::kRadians;
   // Vertices whose rotation is taken as known (held at its value): a
@@ -26,6 +35,15 @@ struct PoseGraphCovarianceOptions {
   // its rows and columns are zero.
   std::set<int64_t> rotation_held;
   int num_threads = 1;
+  // Empty: the covariance is the inverse of the information, H^-1. Else one
+  // entry per edge (graph order): each edge's noise is its information's
+  // times these factors (F, per whitened row), and the covariance is that
+  // of the poses the stated information makes of such noise (the
+  // "sandwich" of an estimator weighed other than its noise):
+  //   H^-1 (J^T F J) H^-1,  H = J^T J,
+  // J the whitened Jacobian at the graph's poses. With every factor c it is
+  // c H^-1.
+  std::vector<EdgeNoiseFactors> noise_factors;
 };
 
 // The marginal covariance of each of `vertices` at the graph's poses (the
@@ -37,8 +55,9 @@ struct PoseGraphCovarianceOptions {
 // are relative to it.
 //
 // Errors (nothing written): the graph is invalid (as for OptimizePoseGraph),
-// a requested vertex has no edge, or the information is rank deficient
-// (a vertex not determined by its edges).
+// a requested vertex has no edge, the information is rank deficient (a
+// vertex not determined by its edges), or noise_factors is given with
+// another size than the edges' or a factor that is not finite and positive.
 Status PoseGraphCovariances(const PoseGraph& graph,
                             const std::vector<int64_t>& vertices,
                             const PoseGraphCovarianceOptions& options,

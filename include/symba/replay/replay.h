@@ -52,7 +52,9 @@ struct ReplayResult {
   // empty when they were computed.
   std::string covariance_note;
   double covariance_seconds = 0.0;  // wall time of ObjectCovariances
-  std::optional<SavedMap> map;      // with ReplayOptions::save_map
+  // Backend::CovarianceNoise() after ObjectCovariances.
+  std::vector<CovarianceNoiseGroup> covariance_noise;
+  std::optional<SavedMap> map;  // with ReplayOptions::save_map
   // With ReplayOptions::relocalize: Backend::Relocalization() at the end.
   std::optional<RelocalizationReport> relocalization;
   std::vector<LoopClosureReport> loop_closures;  // Backend::LoopClosures()

@@ -167,9 +167,11 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
                               weight / (object.sigma_axis * object.sigma_axis))
             : Eigen::Matrix3d::Zero();
     GraphEdgeRole role;
+    role.held = object.noise_stated && count >= kMinHeldViews;
     role.group = "detections " + object.class_name +
-                 (count >= kMinHeldViews ? "" : ", few views");
-    role.held = count >= kMinHeldViews;
+                 (!object.noise_stated    ? ", unstated noise"
+                  : count < kMinHeldViews ? ", few views"
+                                          : "");
     role.measured = !object.measured.empty();
     role.weight = weight;
     role.rotation_dof = object.rotation ? 3 : (object.HasAxis() ? 2 : 0);

@@ -98,6 +98,11 @@ struct GraphObject {
   // Its class: its edges' noise group for the covariances
   // (graph_noise_calibration.h).
   std::string class_name;
+  // Its detections' noise (sigma_t, sigma_r) is what they declared or
+  // their hypotheses' scatter, not the class's estimate or the floor for
+  // an undeclared detector, which stands for errors that persist beyond
+  // what its residuals can show.
+  bool noise_stated = false;
 
   bool HasAxis() const {
     return !rotation && !measured_axes.empty() &&
@@ -156,8 +161,8 @@ ChainStep MeasuredStep(const KeyframeList& keyframes, int k, int window_begin);
 // quarter octave), held where its two keyframes shared at least
 // kMinSharedPoints map points, measured unless both are in the window (the
 // estimate is its measurement); an object's edges are its class's group,
-// held from kMinHeldViews detecting keyframes on; loop closures keep their
-// noise.
+// held from kMinHeldViews detecting keyframes on where its noise is stated
+// (GraphObject::noise_stated); loop closures keep their noise.
 PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
                             int window_begin,
                             const std::vector<LoopConstraint>& loops,

@@ -246,6 +246,8 @@ std::vector<internal::GraphObject> Backend::Impl::GraphObjects() const {
         *first, edges_.AppliedNoise(object.class_name));
     g.sigma_t = sigmas.t;
     g.sigma_r = sigmas.r;
+    g.noise_stated =
+        first->claimed_t || first->claimed_r || first->from_scatter;
     // As the window weighs them: a continuous object's axis with
     // axis_sigma / gamma (none for gamma = 0), a discrete one's rotation
     // with the detection's sigma_r.

@@ -269,5 +269,72 @@ TEST(KeyframeGraph, ASymmetricObjectsAxisLevelsTheKeyframesThatSawIt) {
   EXPECT_GT(worst, 0.05);
 }
 
+TEST(KeyframeGraph, EachEdgesRoleInTheCovariancesNoise) {
+  // Six keyframes, the window from keyframe 4; keyframes 1-3 shared
+  // kMinSharedPoints map points with their predecessors, keyframe 5 too
+  // (inside the window), keyframe 2 stated wider; a loop 0 -> 5; three
+  // objects: one of 12 views with a declared noise, one of 3, one of 12
+  // weighed with the class's estimate (noise not stated).
+  KeyframeList keyframes = KinkedKeyframes(6, 6);
+  for (int k : {1, 2, 3, 5}) {
+    keyframes[k]->points_shared_with_previous = kMinSharedPoints;
+  }
+  keyframes[4]->points_shared_with_previous = kMinSharedPoints - 1;
+  keyframes[2]->motion_variance_t = 0.05 * 0.05;
+  LoopConstraint loop{0,
+                      5,
+                      ReadPose(keyframes[0]->q, keyframes[0]->t).Inverse() *
+                          ReadPose(keyframes[5]->q, keyframes[5]->t),
+                      0.1,
+                      0.1};
+  auto object = [&](const char* name, int views, bool stated) {
+    GraphObject g;
+    g.T_wo = Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, 5));
+    g.rotation = true;
+    g.sigma_t = 0.05;
+    g.sigma_r = 0.1;
+    g.class_name = name;
+    g.noise_stated = stated;
+    for (int v = 0; v < views; ++v) {
+      g.keyframes.push_back(v % 6);
+      g.measured.push_back(
+          ReadPose(keyframes[v % 6]->q, keyframes[v % 6]->t).Inverse() *
+          g.T_wo);
+    }
+    return g;
+  };
+  const std::vector<GraphObject> objects = {object("chair", 12, true),
+                                            object("table", 3, true),
+                                            object("can", 12, false)};
+  std::vector<GraphEdgeRole> roles;
+  const PoseGraph graph =
+      MakeKeyframeGraph(keyframes, 4, {loop}, objects, &roles);
+  ASSERT_EQ(roles.size(), graph.edges.size());
+  ASSERT_EQ(roles.size(), 5u + 1u + 12u + 3u + 12u);
+  const std::string rich = "motion 0.01 m 0.01 rad";
+  EXPECT_EQ(roles[0].group, rich + ", shared points");  // keyframe 1
+  EXPECT_TRUE(roles[0].held);
+  EXPECT_EQ(roles[0].previous, -1);
+  EXPECT_EQ(roles[1].group, "motion 0.05 m 0.01 rad, shared points");
+  EXPECT_EQ(roles[2].group, rich + ", shared points");
+  EXPECT_EQ(roles[2].previous, 1);
+  EXPECT_EQ(roles[3].group, rich + ", no shared points");  // keyframe 4
+  EXPECT_FALSE(roles[3].held);
+  EXPECT_TRUE(roles[3].measured);
+  EXPECT_FALSE(roles[4].measured);      // 4 -> 5: the window's estimate
+  EXPECT_TRUE(roles[5].group.empty());  // the loop
+  EXPECT_EQ(roles[6].group, "detections chair");
+  EXPECT_TRUE(roles[6].held);
+  EXPECT_EQ(roles[6].previous, -1);
+  EXPECT_EQ(roles[7].previous, 6);
+  EXPECT_DOUBLE_EQ(roles[6].weight, 1.0);
+  EXPECT_EQ(roles[6].rotation_dof, 3);
+  EXPECT_EQ(roles[18].group, "detections table, few views");
+  EXPECT_FALSE(roles[18].held);
+  EXPECT_EQ(roles[21].group, "detections can, unstated noise");
+  EXPECT_FALSE(roles[21].held);
+  EXPECT_EQ(roles[21].previous, -1);
+}
+
 }  // namespace
 }  // namespace symba::internal

@@ -520,7 +520,9 @@ std::string NeesCell(const std::vector<Run>& runs) {
   return NeesSummary(nees);
 }
 
-std::string Verdict(bool holds);
+std::string Verdict(bool holds) {
+  return holds ? "holds" : "**does not hold**";
+}
 
 // Project issue 25's calibration, over every scene and seed of one
 // method: a mean near 3 (taken as 2 to 4) with 80-99 % within the bound.
@@ -539,7 +541,7 @@ std::string NeesCheck(const std::string& what,
 }
 
 // symba's position NEES over every scene and seed.
-std::vector<double> SymbaNeesOf(const Runs& runs) {
+std::vector<double> SymbaNees(const Runs& runs) {
   std::vector<double> nees;
   for (const auto& [scene, per_method] : runs) AddNees(per_method[0], &nees);
   return nees;
@@ -606,10 +608,6 @@ std::string WindowPolicyTable(const Flags& flags, const Runs& runs) {
 
 // ---------------------------------------------------------------------------
 // Acceptance checks of project issue 6, on the scenes that were run.
-
-std::string Verdict(bool holds) {
-  return holds ? "holds" : "**does not hold**";
-}
 
 // The largest number of map objects one ground-truth object's detections
 // went to, over objects and runs.
@@ -719,16 +717,6 @@ double SymbaOverBetterBaseline(
   return symba / std::min(sh, mh);
 }
 
-// symba's position NEES over every scene and seed of the undeclared set.
-std::vector<double> SymbaNees(const Flags& flags,
-                              const UndeclaredNoiseRuns& runs) {
-  std::vector<double> nees;
-  for (const std::string& scene : flags.scenes) {
-    AddNees(runs.at(scene)[0], &nees);
-  }
-  return nees;
-}
-
 std::string UndeclaredNoiseTable(const Flags& flags,
                                  const UndeclaredNoiseRuns& runs) {
   std::ostringstream out;
@@ -748,8 +736,7 @@ std::string UndeclaredNoiseTable(const Flags& flags,
     out << " " << Fixed(SymbaOverBetterBaseline(per_method), 2) << " | " << most
         << " | " << NeesCell(per_method[0]) << " |\n";
   }
-  out << "| **all** | | | | | | " << NeesSummary(SymbaNees(flags, runs))
-      << " |\n";
+  out << "| **all** | | | | | | " << NeesSummary(SymbaNees(runs)) << " |\n";
   return out.str();
 }
 
@@ -779,7 +766,7 @@ std::string UndeclaredNoiseChecks(const Flags& flags,
         << WorstFragmentation(per_method[0])
         << "): " << Verdict(OneMapObjectEach(per_method[0])) << ".\n";
   }
-  out << NeesCheck("symba", SymbaNees(flags, runs));
+  out << NeesCheck("symba", SymbaNees(runs));
   return out.str();
 }
 
@@ -928,7 +915,7 @@ std::string ResultsMarkdown(const Flags& flags,
          "hypothesis where a mode's mean of many is better, and the "
          "featureless steps a white noise for a yaw bias that persists). "
          "*all*: every scene and seed together.\n\n"
-      << NeesCheck("symba", SymbaNeesOf(runs)) << "\n";
+      << NeesCheck("symba", SymbaNees(runs)) << "\n";
 
   out << "## Time per keyframe [ms] (mean over seeds)\n\n"
       << TimingTable(flags, runs) << "\n"

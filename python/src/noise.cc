@@ -203,7 +203,7 @@ void BindCovarianceNoise(py::module_& m) {
       .def_readonly("name", &G::name)
       .def_readonly("edges", &G::edges)
       .def_readonly("residuals", &G::residuals)
-      .def_readonly("held", &G::held)
+      .def_readonly("held_by_others", &G::held_by_others)
       .def_readonly("residual_t", &G::residual_t)
       .def_readonly("residual_r", &G::residual_r)
       .def_readonly("correlation_t", &G::correlation_t)
@@ -216,7 +216,7 @@ void BindCovarianceNoise(py::module_& m) {
                              {"name",
                               "edges",
                               "residuals",
-                              "held",
+                              "held_by_others",
                               "residual_t",
                               "residual_r",
                               "correlation_t",

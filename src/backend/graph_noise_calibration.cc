@@ -20,44 +20,52 @@ Eigen::Vector3d Whitened(const Eigen::Matrix3d& information,
   return llt.matrixU() * e;
 }
 
-// Sums over one group's measured residuals, per part (translation,
-// rotation).
+// Sums over one group's measured residuals for one part of them (the
+// translation rows or the rotation rows).
 struct PartSums {
   double squared = 0.0;  // sum |r_i|^2
   double dof = 0.0;      // sum d_i
-  double cross = 0.0;    // sum r_i . r_prev(i)
-  double current = 0.0;  // sum |r_i|^2 over the edges with a predecessor
-  double prior = 0.0;    // sum |r_prev(i)|^2 over the same
+  // Over the edges with a predecessor p in their chain: sum r_i . r_p,
+  // sum |r_i|^2 and sum |r_p|^2.
+  double cross = 0.0;
+  double squared_with_predecessor = 0.0;
+  double predecessor_squared = 0.0;
 
   double Mean() const { return dof > 0.0 ? squared / dof : 0.0; }
   double Correlation() const {
-    if (!(current > 0.0) || !(prior > 0.0)) return 0.0;
+    if (!(squared_with_predecessor > 0.0) || !(predecessor_squared > 0.0)) {
+      return 0.0;
+    }
     return std::clamp(
-        cross / std::sqrt(current * prior), 0.0, kMaxResidualCorrelation);
+        cross / std::sqrt(squared_with_predecessor * predecessor_squared),
+        0.0,
+        kMaxResidualCorrelation);
   }
-  void Add(const Eigen::Vector3d& r, int dof_r, const Eigen::Vector3d* prev) {
+  void Add(const Eigen::Vector3d& r,
+           int dof_r,
+           const Eigen::Vector3d* predecessor) {
     squared += r.squaredNorm();
     dof += dof_r;
-    if (prev == nullptr) return;
-    cross += r.dot(*prev);
-    current += r.squaredNorm();
-    prior += prev->squaredNorm();
+    if (predecessor == nullptr) return;
+    cross += r.dot(*predecessor);
+    squared_with_predecessor += r.squaredNorm();
+    predecessor_squared += predecessor->squaredNorm();
   }
 };
 
 struct GroupSums {
   int edges = 0;
   int residuals = 0;
-  bool held = false;
-  PartSums t;
-  PartSums r;
+  bool held_by_others = false;
+  PartSums translation;
+  PartSums rotation;
 };
 
 // The factor a group's part gets (see the header).
-double Factor(const PartSums& part, bool held) {
+double Factor(const PartSums& part, bool held_by_others) {
   const double rho = part.Correlation();
   const double f = part.Mean() * (1.0 + rho) / (1.0 - rho);
-  return held ? std::max(kMinVarianceFactor, f) : std::max(1.0, f);
+  return held_by_others ? std::max(kMinVarianceFactor, f) : std::max(1.0, f);
 }
 
 }  // namespace
@@ -67,16 +75,21 @@ void CalibrateGraphNoise(const PoseGraph& graph,
                          std::vector<EdgeNoiseFactors>* factors,
                          std::vector<CovarianceNoiseGroup>* groups) {
   const size_t n = graph.edges.size();
+  if (roles.size() != n) {  // no roles to go by: every edge as stated
+    factors->assign(n, EdgeNoiseFactors());
+    groups->clear();
+    return;
+  }
   std::map<std::string, GroupSums> sums;
   // Each measured edge's whitened residual parts, for its successor.
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> whitened(n);
   std::vector<bool> has_residual(n, false);
-  for (size_t i = 0; i < n && i < roles.size(); ++i) {
+  for (size_t i = 0; i < n; ++i) {
     const GraphEdgeRole& role = roles[i];
     if (role.group.empty()) continue;
     GroupSums& group = sums[role.group];
     ++group.edges;
-    group.held = role.held;
+    group.held_by_others = role.held_by_others;
     if (!role.measured || !(role.weight > 0.0)) continue;
     const PoseGraphEdge& edge = graph.edges[i];
     const Vector6<double> e = PoseGraphEdgeError(
@@ -97,11 +110,12 @@ void CalibrateGraphNoise(const PoseGraph& graph,
     const bool chained = p >= 0 && static_cast<size_t>(p) < i &&
                          has_residual[p] && roles[p].group == role.group;
     ++group.residuals;
-    group.t.Add(whitened[i].first, 3, chained ? &whitened[p].first : nullptr);
+    group.translation.Add(
+        whitened[i].first, 3, chained ? &whitened[p].first : nullptr);
     if (role.rotation_dof > 0) {
-      group.r.Add(whitened[i].second,
-                  role.rotation_dof,
-                  chained ? &whitened[p].second : nullptr);
+      group.rotation.Add(whitened[i].second,
+                         role.rotation_dof,
+                         chained ? &whitened[p].second : nullptr);
     }
   }
 
@@ -112,21 +126,26 @@ void CalibrateGraphNoise(const PoseGraph& graph,
     report.name = name;
     report.edges = group.edges;
     report.residuals = group.residuals;
-    report.held = group.held;
-    report.residual_t = group.t.Mean();
-    report.residual_r = group.r.Mean();
-    report.correlation_t = group.t.Correlation();
-    report.correlation_r = group.r.Correlation();
+    report.held_by_others = group.held_by_others;
+    report.residual_t = group.translation.Mean();
+    report.residual_r = group.rotation.Mean();
+    report.correlation_t = group.translation.Correlation();
+    report.correlation_r = group.rotation.Correlation();
     if (group.residuals >= kMinGroupResiduals) {
-      report.factor_t = Factor(group.t, group.held);
-      if (group.r.dof > 0.0) report.factor_r = Factor(group.r, group.held);
+      report.factor_t = Factor(group.translation, group.held_by_others);
+      if (group.rotation.dof > 0.0) {
+        report.factor_r = Factor(group.rotation, group.held_by_others);
+      }
     }
     by_group[name] = {report.factor_t, report.factor_r};
     reports.push_back(std::move(report));
   }
   std::vector<EdgeNoiseFactors> out(n);
-  for (size_t i = 0; i < n && i < roles.size(); ++i) {
-    if (!roles[i].group.empty()) out[i] = by_group.at(roles[i].group);
+  for (size_t i = 0; i < n; ++i) {
+    if (roles[i].group.empty()) continue;
+    out[i] = by_group.at(roles[i].group);
+    // Rotation rows that measure nothing (a regulariser) stay as they are.
+    if (roles[i].rotation_dof == 0) out[i].rotation = 1.0;
   }
   *factors = std::move(out);
   *groups = std::move(reports);

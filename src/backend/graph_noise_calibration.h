@@ -18,7 +18,18 @@
 // it shows the noise only where something else held the estimate: a held
 // group gets f (at least kMinVarianceFactor), any other at least 1 (its
 // residuals can prove its noise larger than stated, never smaller). A group
-// of fewer than kMinGroupResiduals measured residuals keeps 1.
+// of fewer than kMinGroupResiduals measured residuals keeps 1. Every edge
+// of a group takes its factors, those whose residual was not measured (a
+// step inside the window) too; rotation rows that measure nothing
+// (rotation_dof 0) keep 1. An axis edge's rotation rows take the group's
+// rotation factor on the turn about the axis too, which nothing measures
+// and which is held loosely anyway (kAxisTurnInformation).
+//
+// Known limitation: an object edge stands for `weight` detections taken as
+// independent; the correlation measured between consecutive edges, which
+// lie `weight` keyframes apart, is the detections' correlation to that
+// power, so errors that persist from keyframe to keyframe are inflated
+// less than `weight` consecutive detections would need.
 #ifndef SYMBA_SRC_BACKEND_GRAPH_NOISE_CALIBRATION_H_
 #define SYMBA_SRC_BACKEND_GRAPH_NOISE_CALIBRATION_H_
 
@@ -37,8 +48,8 @@ inline constexpr double kMaxResidualCorrelation = 0.98;
 
 // One edge of the graph (in graph order).
 struct GraphEdgeRole {
-  std::string group;  // empty: as stated (a loop closure)
-  bool held = false;  // the group's (see above)
+  std::string group;            // empty: as stated (a loop closure)
+  bool held_by_others = false;  // the group's (see above)
   // Its residual is a measurement's misfit (not an estimate taken as the
   // measurement, as the window's steps are).
   bool measured = true;
@@ -48,7 +59,8 @@ struct GraphEdgeRole {
 };
 
 // `factors` (one per edge) and `groups` (one per group, by name) for the
-// graph at its poses.
+// graph at its poses. `roles` must have one entry per edge; otherwise every
+// edge keeps its stated noise (factors 1, no groups).
 void CalibrateGraphNoise(const PoseGraph& graph,
                          const std::vector<GraphEdgeRole>& roles,
                          std::vector<EdgeNoiseFactors>* factors,

@@ -58,9 +58,10 @@ GraphEdgeRole StepRole(const KeyframeState& kf,
                         name)
           .first->second;
   GraphEdgeRole role;
-  role.held =
+  role.held_by_others =
       from_previous && kf.points_shared_with_previous >= kMinSharedPoints;
-  role.group = group + (role.held ? ", shared points" : ", no shared points");
+  role.group =
+      group + (role.held_by_others ? ", shared points" : ", no shared points");
   role.measured = !in_window;
   return role;
 }
@@ -167,7 +168,7 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
                               weight / (object.sigma_axis * object.sigma_axis))
             : Eigen::Matrix3d::Zero();
     GraphEdgeRole role;
-    role.held = object.noise_stated && count >= kMinHeldViews;
+    role.held_by_others = object.noise_stated && count >= kMinHeldViews;
     role.group = "detections " + object.class_name +
                  (!object.noise_stated    ? ", unstated noise"
                   : count < kMinHeldViews ? ", few views"

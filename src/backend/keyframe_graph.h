@@ -168,7 +168,12 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
                             const std::vector<LoopConstraint>& loops,
                             const std::vector<GraphObject>& objects,
                             std::vector<GraphEdgeRole>* roles = nullptr);
+// A step is held by others where its two keyframes (k - 1 and k) shared at
+// least this many map points: a relative pose from them is overdetermined.
 inline constexpr int kMinSharedPoints = 6;
+// An object's edges are held by others from this many detecting keyframes
+// on: its position is then a mean of many, each detection's residual
+// nearly its own error.
 inline constexpr int kMinHeldViews = 10;
 
 // Optimises that graph; on success (*keyframe_poses)[k] is keyframe k's

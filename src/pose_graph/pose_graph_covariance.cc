@@ -1,5 +1,6 @@
 #include "symba/pose_graph/pose_graph_covariance.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -117,20 +118,14 @@ TangentColumns FreeColumns(internal::PreparedPoseGraph* prepared,
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
 
-// The whitened Jacobian at the poses, rows in edge order (6 per edge), the
-// columns' of `columns`; with `factors`, row i scaled by sqrt(F_i).
-SparseMatrix WhitenedJacobian(const ceres::CRSMatrix& crs,
-                              const std::vector<EdgeNoiseFactors>* factors) {
+// The whitened Jacobian at the poses (rows: 6 per edge, in edge order;
+// columns: the free blocks' tangents).
+SparseMatrix WhitenedJacobian(const ceres::CRSMatrix& crs) {
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(crs.values.size());
   for (int row = 0; row < crs.num_rows; ++row) {
-    double scale = 1.0;
-    if (factors != nullptr) {
-      const EdgeNoiseFactors& f = (*factors)[row / 6];
-      scale = std::sqrt(row % 6 < 3 ? f.translation : f.rotation);
-    }
     for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k) {
-      entries.emplace_back(row, crs.cols[k], scale * crs.values[k]);
+      entries.emplace_back(row, crs.cols[k], crs.values[k]);
     }
   }
   SparseMatrix J(crs.num_rows, crs.num_cols);
@@ -138,35 +133,52 @@ SparseMatrix WhitenedJacobian(const ceres::CRSMatrix& crs,
   return J;
 }
 
+// sqrt(F) per whitened row: each edge's translation rows, then rotation.
+Eigen::VectorXd RowFactors(const std::vector<EdgeNoiseFactors>& factors) {
+  Eigen::VectorXd rows(6 * factors.size());
+  for (size_t e = 0; e < factors.size(); ++e) {
+    rows.segment<3>(6 * e).setConstant(std::sqrt(factors[e].translation));
+    rows.segment<3>(6 * e + 3).setConstant(std::sqrt(factors[e].rotation));
+  }
+  return rows;
+}
+
 // Below this ratio of the smallest to the largest pivot of H's LDL^T the
-// information is taken as rank deficient (Ceres's default reciprocal
-// condition number for its covariances).
+// information is taken as rank deficient. The pivots lie between H's
+// smallest and largest eigenvalues, so this catches a vertex its edges do
+// not determine (a zero or negative pivot, or one at round-off) but not
+// every ill-conditioned H; Ceres's sparse QR decides by the rank of R.
 constexpr double kMinPivotRatio = 1e-14;
 
 // H^-1 (J^T F J) H^-1 at each of `free` (a vertex's [t; w] block, zero
 // where it is held).
 Status SandwichCovariances(internal::PreparedPoseGraph* prepared,
-                           ceres::Problem* problem,
+                           internal::PoseGraphProblem* pose_graph_problem,
                            const std::vector<FreeBlocks>& free,
                            const std::vector<EdgeNoiseFactors>& factors,
                            std::vector<Matrix6d>* out) {
+  ceres::Problem* problem = &pose_graph_problem->problem();
   const TangentColumns columns = FreeColumns(prepared, problem);
-  if (columns.count == 0) {  // everything held: known
+  const bool none_free =
+      std::all_of(free.begin(), free.end(), [](const FreeBlocks& v) {
+        return v.t == nullptr && v.q == nullptr;
+      });
+  if (columns.count == 0 || none_free) {  // what is held is known
     out->assign(free.size(), Matrix6d::Zero());
     return Status::Ok();
   }
   ceres::Problem::EvaluateOptions evaluate;
   evaluate.parameter_blocks = columns.blocks;
-  // The problem has one residual block per edge, added in edge order, and
-  // lists them in that order.
-  problem->GetResidualBlocks(&evaluate.residual_blocks);
+  evaluate.residual_blocks = pose_graph_problem->edge_blocks();  // edge order
   ceres::CRSMatrix crs;
-  if (!problem->Evaluate(evaluate, nullptr, nullptr, nullptr, &crs)) {
+  if (!problem->Evaluate(evaluate, nullptr, nullptr, nullptr, &crs) ||
+      crs.num_rows != 6 * static_cast<int>(factors.size()) ||
+      crs.num_cols != columns.count) {
     return Status::Error(
         "pose graph covariance: the Jacobian could not be evaluated");
   }
-  const SparseMatrix J = WhitenedJacobian(crs, nullptr);
-  const SparseMatrix JF = WhitenedJacobian(crs, &factors);
+  const SparseMatrix J = WhitenedJacobian(crs);
+  const SparseMatrix JF = RowFactors(factors).asDiagonal() * J;
   const SparseMatrix H = SparseMatrix(J.transpose()) * J;
   const Eigen::SimplicialLDLT<SparseMatrix> ldlt(H);
   const Eigen::VectorXd pivots = ldlt.vectorD();
@@ -239,8 +251,11 @@ Status PoseGraphCovariances(const PoseGraph& graph,
         FreeBlocksOf(prepared.states[prepared.index_of.at(id)], &problem));
   }
   if (!options.noise_factors.empty()) {
-    return SandwichCovariances(
-        &prepared, &problem, free, options.noise_factors, covariances);
+    return SandwichCovariances(&prepared,
+                               &pose_graph_problem,
+                               free,
+                               options.noise_factors,
+                               covariances);
   }
   const std::vector<std::pair<const double*, const double*>> pairs =
       Pairs(free);

@@ -166,13 +166,13 @@ PoseGraphProblem::PoseGraphProblem(PoseGraphRotationError rotation_error,
   for (const PreparedPoseEdge& p : prepared->edges) {
     Rigid3d& T_wa = prepared->states[p.a];
     Rigid3d& T_wb = prepared->states[p.b];
-    problem_.AddResidualBlock(
+    edge_blocks_.push_back(problem_.AddResidualBlock(
         PoseGraphEdgeFactor::Create(p.T_ab, p.sqrt_info, rotation_error),
         nullptr,
         T_wa.q.coeffs().data(),
         T_wa.t.data(),
         T_wb.q.coeffs().data(),
-        T_wb.t.data());
+        T_wb.t.data()));
   }
   for (size_t i = 0; i < prepared->states.size(); ++i) {
     double* q = prepared->states[i].q.coeffs().data();

@@ -54,12 +54,17 @@ class PoseGraphProblem {
   PoseGraphProblem& operator=(const PoseGraphProblem&) = delete;
 
   ceres::Problem& problem() { return problem_; }
+  // One residual block per edge, in the prepared graph's edge order.
+  const std::vector<ceres::ResidualBlockId>& edge_blocks() const {
+    return edge_blocks_;
+  }
 
  private:
   // Declared before the problem, which does not own it and must not
   // outlive it.
   ceres::EigenQuaternionManifold quaternion_manifold_;
   ceres::Problem problem_;
+  std::vector<ceres::ResidualBlockId> edge_blocks_;
 };
 
 }  // namespace symba::internal

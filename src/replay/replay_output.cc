@@ -238,10 +238,10 @@ std::string FormatReplaySummaryJson(const std::string& log_path,
   json.Key("noise").BeginArray();
   for (const CovarianceNoiseGroup& g : result.covariance_noise) {
     json.BeginObject()
-        .Member("group", g.name)
+        .Member("name", g.name)
         .Member("edges", g.edges)
         .Member("residuals", g.residuals)
-        .Member("held", g.held)
+        .Member("held_by_others", g.held_by_others)
         .Member("residual_t", g.residual_t)
         .Member("residual_r", g.residual_r)
         .Member("correlation_t", g.correlation_t)

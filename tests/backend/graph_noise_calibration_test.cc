@@ -52,7 +52,7 @@ Chain MakeChain(const std::vector<Vector6<double>>& errors, bool held) {
     chain.graph.edges.push_back({i, i + 1, truth * error, Information(1.0)});
     GraphEdgeRole role;
     role.group = "steps";
-    role.held = held;
+    role.held_by_others = held;
     role.previous = i - 1;
     chain.roles.push_back(role);
   }
@@ -91,7 +91,7 @@ TEST(GraphNoiseCalibration, AHeldGroupGetsTheNoiseItsResidualsShow) {
   EXPECT_EQ(c.groups[0].name, "steps");
   EXPECT_EQ(c.groups[0].edges, 600);
   EXPECT_EQ(c.groups[0].residuals, 600);
-  EXPECT_TRUE(c.groups[0].held);
+  EXPECT_TRUE(c.groups[0].held_by_others);
   // 1800 degrees of freedom: the mean of chi-square / dof within 4 % (1 sd).
   EXPECT_NEAR(c.groups[0].factor_t, 0.25, 0.25 * 0.15);
   EXPECT_NEAR(c.groups[0].factor_r, 0.25, 0.25 * 0.15);

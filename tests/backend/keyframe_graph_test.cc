@@ -313,26 +313,27 @@ TEST(KeyframeGraph, EachEdgesRoleInTheCovariancesNoise) {
   ASSERT_EQ(roles.size(), 5u + 1u + 12u + 3u + 12u);
   const std::string rich = "motion 0.01 m 0.01 rad";
   EXPECT_EQ(roles[0].group, rich + ", shared points");  // keyframe 1
-  EXPECT_TRUE(roles[0].held);
+  EXPECT_TRUE(roles[0].held_by_others);
   EXPECT_EQ(roles[0].previous, -1);
   EXPECT_EQ(roles[1].group, "motion 0.05 m 0.01 rad, shared points");
   EXPECT_EQ(roles[2].group, rich + ", shared points");
   EXPECT_EQ(roles[2].previous, 1);
   EXPECT_EQ(roles[3].group, rich + ", no shared points");  // keyframe 4
-  EXPECT_FALSE(roles[3].held);
+  EXPECT_FALSE(roles[3].held_by_others);
   EXPECT_TRUE(roles[3].measured);
+  EXPECT_EQ(roles[3].previous, 2);
   EXPECT_FALSE(roles[4].measured);      // 4 -> 5: the window's estimate
   EXPECT_TRUE(roles[5].group.empty());  // the loop
   EXPECT_EQ(roles[6].group, "detections chair");
-  EXPECT_TRUE(roles[6].held);
+  EXPECT_TRUE(roles[6].held_by_others);
   EXPECT_EQ(roles[6].previous, -1);
   EXPECT_EQ(roles[7].previous, 6);
   EXPECT_DOUBLE_EQ(roles[6].weight, 1.0);
   EXPECT_EQ(roles[6].rotation_dof, 3);
   EXPECT_EQ(roles[18].group, "detections table, few views");
-  EXPECT_FALSE(roles[18].held);
+  EXPECT_FALSE(roles[18].held_by_others);
   EXPECT_EQ(roles[21].group, "detections can, unstated noise");
-  EXPECT_FALSE(roles[21].held);
+  EXPECT_FALSE(roles[21].held_by_others);
   EXPECT_EQ(roles[21].previous, -1);
 }
 

@@ -223,6 +223,38 @@ TEST(PoseGraphCovariances,
   ExpectNear(c[0].topRightCorner<3, 3>(), Eigen::Matrix3d::Zero());
 }
 
+TEST(PoseGraphCovariances, EachEdgesFactorsReachItsOwnRows) {
+  // The chain worked out by hand with the second edge's translation noise
+  // c times its information's: vertex 1 (the first edge only) keeps its
+  // covariance; vertex 2's translation gets c s_t^2 instead of s_t^2 from
+  // that edge; the rotations keep theirs.
+  constexpr double c = 5.0;
+  PoseGraphCovarianceOptions options;
+  options.noise_factors = {{1.0, 1.0}, {c, 1.0}};
+  std::vector<Matrix6d> got;
+  ASSERT_TRUE(PoseGraphCovariances(Chain(), {1, 2}, options, &got).ok());
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const double vt = kSigmaT * kSigmaT;
+  const double vr = kSigmaR * kSigmaR;
+  ExpectNear(got[0].topLeftCorner<3, 3>(), vt * I);
+  ExpectNear(got[0].bottomRightCorner<3, 3>(), vr * I);
+  const Eigen::Matrix3d D = Hat(Eigen::Vector3d(0, 1, 0));
+  ExpectNear(got[1].topLeftCorner<3, 3>(),
+             (1.0 + c) * vt * I + vr * D * D.transpose());
+  ExpectNear(got[1].bottomRightCorner<3, 3>(), 2 * vr * I);
+  ExpectNear(got[1].topRightCorner<3, 3>(), -vr * D);
+  // The same factor on the first edge instead: both vertices get it.
+  options.noise_factors = {{c, 1.0}, {1.0, 1.0}};
+  ASSERT_TRUE(PoseGraphCovariances(Chain(), {1, 2}, options, &got).ok());
+  ExpectNear(got[0].topLeftCorner<3, 3>(), c * vt * I);
+  ExpectNear(got[1].topLeftCorner<3, 3>(),
+             (1.0 + c) * vt * I + vr * D * D.transpose());
+  // Only held or gauge vertices asked for: known, as by the inverse.
+  ASSERT_TRUE(PoseGraphCovariances(Chain(), {0}, options, &got).ok());
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_TRUE(got[0].isZero(0.0));
+}
+
 TEST(PoseGraphCovariances, RefusesNoiseFactorsItCannotUse) {
   std::vector<Matrix6d> c = {Matrix6d::Identity()};
   PoseGraphCovarianceOptions options;

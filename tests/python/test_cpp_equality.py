@@ -101,7 +101,8 @@ def test_backend_keyframe_by_keyframe_matches_replay(simulated_log):
     assert stats.solves == 24
 
 
-def test_covariance_noise_is_what_the_covariances_used(simulated_log):
+def test_covariance_noise_is_what_the_covariances_used(simulated_log, cli,
+                                                       tmp_path):
     header, keyframes = symba.read_log(str(simulated_log))
 
     def run(calibrate):
@@ -124,8 +125,20 @@ def test_covariance_noise_is_what_the_covariances_used(simulated_log):
         assert g.factor_t > 0 and g.factor_r > 0
         assert 0 <= g.correlation_t <= 0.98
         # A group the residuals may not show better than stated: at least 1.
-        if not g.held:
+        if not g.held_by_others:
             assert g.factor_t >= 1 and g.factor_r >= 1
+    # The replay reports the same groups (summary.json covariances.noise).
+    out = tmp_path / "out"
+    cli("replay", simulated_log, "--out", out, "--quiet")
+    with open(out / "summary.json") as f:
+        reported = json.load(f)["covariances"]["noise"]
+    assert [r["name"] for r in reported] == [g.name for g in groups]
+    for r, g in zip(reported, groups):
+        assert r["held_by_others"] == g.held_by_others
+        assert r["edges"] == g.edges and r["residuals"] == g.residuals
+        for key in ("residual_t", "residual_r", "correlation_t",
+                    "correlation_r", "factor_t", "factor_r"):
+            assert r[key] == pytest.approx(getattr(g, key), rel=1e-9), key
     stated, as_stated = run(False)
     assert stated.covariance_noise() == []
     assert [c["id"] for c in as_stated] == [c["id"] for c in with_factors]

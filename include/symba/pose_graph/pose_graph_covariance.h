@@ -2,7 +2,9 @@
 // "Covariances"): the inverse of the graph's Gauss-Newton information at its
 // poses, with the gauge held, in world-frame coordinates (GTSAM's
 // marginalCovariance gives the same marginal in the vertex's own frame,
-// rotation first).
+// rotation first); or, where the edges' noise is said to differ from their
+// information by factors, the covariance of the poses that information
+// makes of that noise.
 #ifndef SYMBA_POSE_GRAPH_POSE_GRAPH_COVARIANCE_H_
 #define SYMBA_POSE_GRAPH_POSE_GRAPH_COVARIANCE_H_
 
@@ -42,7 +44,8 @@ struct PoseGraphCovarianceOptions {
   // "sandwich" of an estimator weighed other than its noise):
   //   H^-1 (J^T F J) H^-1,  H = J^T J,
   // J the whitened Jacobian at the graph's poses. With every factor c it is
-  // c H^-1.
+  // c H^-1. This route factors H with Eigen's sparse LDL^T, single-threaded
+  // (num_threads is not used).
   std::vector<EdgeNoiseFactors> noise_factors;
 };
 

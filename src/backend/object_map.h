@@ -181,10 +181,11 @@ class ObjectMap {
   // (upgrade_evidence.h); 0 if none.
   int FlipOrder(double angle, int known_order) const;
   // Turns asymmetric object o to the world rotation R_wo: its earlier views
-  // in the window keep their positions only, its prior loses the rotation,
-  // its flips start again from the `left_behind` views at the rotation it
-  // leaves (flips by `angle`, also in its class's counts), its rotation
-  // noise samples start again.
+  // weigh nothing from then on (turned_away: neither rotation nor position,
+  // in the window and in a batch over the kept history), its prior is
+  // retired, its flips start again from the `left_behind` views at the
+  // rotation it leaves (flips by `angle`, also in its class's counts), its
+  // rotation noise samples start again.
   void Turn(int o,
             const Eigen::Quaterniond& R_wo,
             int left_behind,

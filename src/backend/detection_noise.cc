@@ -21,7 +21,7 @@ double IncrementCorrelation(double sigma_level, double sigma_increment) {
 double CorrelatedSigma(double sigma_level, double sigma_increment) {
   if (!(sigma_level > 0.0)) return 0.0;
   const double rho = IncrementCorrelation(sigma_level, sigma_increment);
-  return sigma_level * std::sqrt((1.0 + rho) / (1.0 - rho));
+  return sigma_level * std::sqrt(PersistenceVarianceFactor(rho));
 }
 
 void DetectionNoiseEstimator::AddTranslation(const std::string& class_name,

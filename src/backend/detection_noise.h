@@ -99,6 +99,12 @@ double IncrementCorrelation(double sigma_level, double sigma_increment);
 // sigma_L sqrt((1 + rho) / (1 - rho)) from a scale of levels and one of
 // increments (see above).
 double CorrelatedSigma(double sigma_level, double sigma_increment);
+// (1 + rho) / (1 - rho): how much more a mean of N errors that persist as
+// an AR(1) process with correlation rho (in [0, kMaxCorrelation]) varies
+// than a mean of N independent ones.
+inline double PersistenceVarianceFactor(double rho) {
+  return (1.0 + rho) / (1.0 - rho);
+}
 
 // The factor a claim (a detector's sigmas, a front end's step) is weighed
 // with, given the scale its samples give and the factor applied before:

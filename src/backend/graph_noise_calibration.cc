@@ -39,7 +39,7 @@ struct PartSums {
     return std::clamp(
         cross / std::sqrt(squared_with_predecessor * predecessor_squared),
         0.0,
-        kMaxResidualCorrelation);
+        kMaxCorrelation);
   }
   void Add(const Eigen::Vector3d& r,
            int dof_r,
@@ -63,8 +63,7 @@ struct GroupSums {
 
 // The factor a group's part gets (see the header).
 double Factor(const PartSums& part, bool held_by_others) {
-  const double rho = part.Correlation();
-  const double f = part.Mean() * (1.0 + rho) / (1.0 - rho);
+  const double f = part.Mean() * PersistenceVarianceFactor(part.Correlation());
   return held_by_others ? std::max(kMinVarianceFactor, f) : std::max(1.0, f);
 }
 

@@ -10,7 +10,8 @@
 // degrees of freedom:
 //   s   = sum |r_i|^2 / sum d_i                  (translation, rotation)
 //   rho = sum r_i . r_prev(i) / sqrt(sum |r_i|^2 sum |r_prev(i)|^2)
-//         over the edges with a predecessor in their sequence, in [0, 0.98]
+//         over the edges with a predecessor in their sequence, in [0,
+//         kMaxCorrelation] (detection_noise.h's, 0.98)
 //   f   = s (1 + rho) / (1 - rho)                (a run of N errors that
 //         persist as an AR(1) process moves an estimate as N (1 - rho) /
 //         (1 + rho) independent ones would; the stated noise is white)
@@ -36,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "backend/detection_noise.h"
 #include "symba/backend/covariance_noise.h"
 #include "symba/pose_graph/pose_graph.h"
 #include "symba/pose_graph/pose_graph_covariance.h"
@@ -44,7 +46,6 @@ namespace symba::internal {
 
 inline constexpr int kMinGroupResiduals = 10;
 inline constexpr double kMinVarianceFactor = 0.01;  // sigma at least 0.1x
-inline constexpr double kMaxResidualCorrelation = 0.98;
 
 // One edge of the graph (in graph order).
 struct GraphEdgeRole {

@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "backend/motion_claims.h"
 #include "symba/geometry/swing_twist.h"
 
 namespace symba::internal {
@@ -45,17 +46,12 @@ GraphEdgeRole StepRole(const KeyframeState& kf,
                        const StepSigmas& sigmas,
                        bool from_previous,
                        bool in_window,
-                       std::map<std::pair<long, long>, std::string>* names) {
-  auto quarter_octave = [](double sigma) {
-    return std::lround(4.0 * std::log2(sigma));
-  };
+                       std::map<StatedSigmasKey, std::string>* names) {
   char name[96];
   std::snprintf(
       name, sizeof name, "motion %.3g m %.3g rad", sigmas.t, sigmas.r);
   const std::string& group =
-      names
-          ->try_emplace({quarter_octave(sigmas.t), quarter_octave(sigmas.r)},
-                        name)
+      names->try_emplace(StatedSigmasKeyOf(sigmas.t, sigmas.r), name)
           .first->second;
   GraphEdgeRole role;
   role.held_by_others =
@@ -112,7 +108,7 @@ PoseGraph MakeKeyframeGraph(const KeyframeList& keyframes,
                             const std::vector<GraphObject>& objects,
                             std::vector<GraphEdgeRole>* roles) {
   std::vector<GraphEdgeRole> edge_roles;
-  std::map<std::pair<long, long>, std::string> step_groups;
+  std::map<StatedSigmasKey, std::string> step_groups;
   PoseGraph graph;
   const int n = static_cast<int>(keyframes.size());
   for (int k = 0; k < n; ++k) {

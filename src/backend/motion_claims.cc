@@ -5,7 +5,7 @@
 
 namespace symba::internal {
 
-MotionClaims::Key MotionClaims::KeyOf(double stated_t, double stated_r) {
+StatedSigmasKey StatedSigmasKeyOf(double stated_t, double stated_r) {
   const auto quarter_octaves = [](double sigma) {
     return static_cast<int>(std::lround(4.0 * std::log2(sigma)));
   };
@@ -21,7 +21,7 @@ void MotionClaims::Add(double stated_t,
     return;
   }
   const auto [it, inserted] =
-      groups_.try_emplace(KeyOf(stated_t, stated_r), window_);
+      groups_.try_emplace(StatedSigmasKeyOf(stated_t, stated_r), window_);
   Group& group = it->second;
   if (inserted) {  // the group's sigmas as its first step stated them
     group.stated_t = stated_t;
@@ -40,7 +40,7 @@ void MotionClaims::Add(double stated_t,
 
 double MotionClaims::Factor(double stated_t, double stated_r) {
   if (!(stated_t > 0.0) || !(stated_r > 0.0)) return 1.0;
-  const auto it = groups_.find(KeyOf(stated_t, stated_r));
+  const auto it = groups_.find(StatedSigmasKeyOf(stated_t, stated_r));
   if (it == groups_.end()) return 1.0;
   Group& group = it->second;
   if (group.samples.size() < min_samples_) return group.factor;

@@ -48,6 +48,12 @@
 
 namespace symba::internal {
 
+// Steps stated alike: the quarter octaves (round(4 log2 sigma)) of a step's
+// stated sigmas (m, rad). The objects' test of the steps (MotionClaims) and
+// the keyframe graph's covariances group steps by it.
+using StatedSigmasKey = std::pair<int, int>;
+StatedSigmasKey StatedSigmasKeyOf(double stated_t, double stated_r);
+
 class MotionClaims {
  public:
   MotionClaims(int window,
@@ -76,8 +82,7 @@ class MotionClaims {
   std::vector<MotionNoiseReport::Group> Report() const;
 
  private:
-  using Key = std::pair<int, int>;  // quarter octaves of sigma_t, sigma_r
-  static Key KeyOf(double stated_t, double stated_r);
+  using Key = StatedSigmasKey;
   // Another group's pairs (min_samples of them) are explained by the
   // detections' noise and their steps as stated (scale at most 1), and
   // its steps are stated no wider than the detections' noise (median of

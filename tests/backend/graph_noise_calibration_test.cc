@@ -158,11 +158,10 @@ TEST(GraphNoiseCalibration, ExactValuesOfWeighedEdgesAndTheirBounds) {
   Calibration c = Calibrate(chain);
   ASSERT_EQ(c.groups.size(), 1u);
   EXPECT_NEAR(c.groups[0].residual_t, 1.0 / 12.0, 1e-12);
-  EXPECT_NEAR(c.groups[0].correlation_t, kMaxResidualCorrelation, 1e-12);
-  EXPECT_NEAR(
-      c.groups[0].factor_t,
-      (1.0 + kMaxResidualCorrelation) / (1.0 - kMaxResidualCorrelation) / 12.0,
-      1e-9);
+  EXPECT_NEAR(c.groups[0].correlation_t, kMaxCorrelation, 1e-12);
+  EXPECT_NEAR(c.groups[0].factor_t,
+              (1.0 + kMaxCorrelation) / (1.0 - kMaxCorrelation) / 12.0,
+              1e-9);
   EXPECT_EQ(c.groups[0].factor_r, 1.0);  // no rotation measured
 
   // Without predecessors no correlation: 1 / 12 as it is; exact residuals

@@ -88,6 +88,7 @@ class BackendOptions:
     motion_noise_tolerance: float
     uncalibrated_sigma_t: float
     uncalibrated_sigma_r: float
+    sight_rows: bool
     scatter_min_hypotheses: int
     min_support: float
     min_support_views: int

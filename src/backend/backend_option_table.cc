@@ -274,6 +274,11 @@ void AppendRealDetectorOptions(OptionTable<BackendOptions>* table) {
                           NoiseSigma(),
                           "with estimate_noise: least rotation noise of a "
                           "detection without sigmas"),
+          BoolOption<O>("sight_rows",
+                        &O::sight_rows,
+                        "with estimate_noise: a detection weighed at the "
+                        "floor also places its object across its line of "
+                        "sight with the class's noise, the camera held"),
           IntOption<O>("scatter_min_hypotheses",
                        &O::scatter_min_hypotheses,
                        AtLeast(0),

@@ -31,6 +31,20 @@ void DetectionNoiseEstimator::AddTranslation(const std::string& class_name,
   (kind == Kind::kLevel ? scales.level : scales.increment).Add(error);
 }
 
+void DetectionNoiseEstimator::AddSightLevel(const std::string& class_name,
+                                            double along,
+                                            double across) {
+  SightScales& scales = sight_.try_emplace(class_name, window_).first->second;
+  scales.along.Add(along);
+  scales.across.Add(across);
+}
+
+std::optional<double> SightAnisotropy(double along_median,
+                                      double across_median) {
+  if (!(across_median > 0.0) || !(along_median >= 0.0)) return std::nullopt;
+  return (along_median / kChi1Median) / (across_median / kChi2Median);
+}
+
 void DetectionNoiseEstimator::AddRotation(const std::string& class_name,
                                           Kind kind,
                                           double error) {
@@ -194,6 +208,11 @@ ClassNoise DetectionNoiseEstimator::Estimate(
   }
   noise.claim_scale_t = ClaimScale(claim_t_, class_name);
   noise.claim_scale_r = ClaimScale(claim_r_, class_name);
+  const auto sight = sight_.find(class_name);
+  if (sight != sight_.end() && sight->second.along.size() >= min_samples_) {
+    noise.sight_anisotropy = SightAnisotropy(sight->second.along.Median(),
+                                             sight->second.across.Median());
+  }
   // The white part holds the detections weighed by their scatter: a
   // class without any has none.
   if (scatter_.count(class_name) == 0) return noise;

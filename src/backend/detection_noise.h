@@ -128,7 +128,18 @@ struct ClassNoise {
   // claimed sigma is multiplied by.
   std::optional<double> claim_scale_t;
   std::optional<double> claim_scale_r;
+  // How much wider the detections' position errors are along their line of
+  // sight than across it, kappa = sigma_along / sigma_across (one axis
+  // each), once there are min_samples levels (SightAnisotropy).
+  std::optional<double> sight_anisotropy;
 };
+
+// kappa from the medians of the level errors' parts along the line of
+// sight (|e . u|) and across it (|e - (e . u) u|), each over its Gaussian
+// median (one and two degrees of freedom); none where the across median is
+// not positive.
+std::optional<double> SightAnisotropy(double along_median,
+                                      double across_median);
 
 // What one kind of sample (translation or rotation) of a class says: the
 // counts, sigma_L and sigma_I where there are min_samples of each, and the
@@ -144,6 +155,11 @@ class DetectionNoiseEstimator {
   enum class Kind { kLevel, kIncrement };
   void AddTranslation(const std::string& class_name, Kind kind, double error);
   void AddRotation(const std::string& class_name, Kind kind, double error);
+  // A level error's parts along and across the detection's line of sight
+  // (m; ClassNoise::sight_anisotropy).
+  void AddSightLevel(const std::string& class_name,
+                     double along,
+                     double across);
   // Each sigma once it has min_samples levels.
   ClassNoise Estimate(const std::string& class_name) const;
   // The samples behind Estimate, for the report.
@@ -209,6 +225,12 @@ class DetectionNoiseEstimator {
   std::map<std::string, Scales> translation_;
   std::map<std::string, Scales> rotation_;
   std::map<std::string, ScatterScales> scatter_;
+  struct SightScales {
+    explicit SightScales(int window) : along(window), across(window) {}
+    RobustScale along;
+    RobustScale across;
+  };
+  std::map<std::string, SightScales> sight_;
   std::map<std::string, ClaimSamples> claim_t_;
   std::map<std::string, ClaimSamples> claim_r_;
   std::map<std::string, TrackReference> tracks_;

@@ -10,6 +10,7 @@
 #include "backend/keyframe_graph.h"
 #include "symba/common/check.h"
 #include "symba/factors/inflated_prior.h"
+#include "symba/factors/line_of_sight_rows.h"
 
 namespace symba::internal {
 
@@ -162,7 +163,20 @@ void FactorGraph::SolveWindow(int first, SolveOutcome* outcome) {
   if (options_.window_policy != WindowPolicy::kCondition) {
     while (marginalized_until_ < first) LeaveWindow(marginalized_until_++);
   }
+  HoldCamerasForSightRows(std::max(first, 0));
   Solve(options_.max_iterations, Prepare(false, first), outcome);
+}
+
+void FactorGraph::HoldCamerasForSightRows(int first) {
+  for (size_t k = static_cast<size_t>(first); k < keyframes_.size(); ++k) {
+    const KeyframeState& kf = *keyframes_[k];
+    const Rigid3d T_wc = kf.T_wc();
+    for (int f : kf.factors) {
+      auto* sight =
+          dynamic_cast<LineOfSightRows*>(problem_.factor(f).cost.get());
+      if (sight != nullptr) sight->Refresh(T_wc.q, T_wc.t);
+    }
+  }
 }
 
 Status FactorGraph::SolveBatch(SolveOutcome* outcome) {
@@ -171,6 +185,7 @@ Status FactorGraph::SolveBatch(SolveOutcome* outcome) {
         "no batch solve: keyframes left the window and their factors were "
         "freed (set BackendOptions::keep_history to keep them)");
   }
+  HoldCamerasForSightRows(0);
   Solve(options_.batch_max_iterations, Prepare(true, 0), outcome);
   return Status::Ok();
 }

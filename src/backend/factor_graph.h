@@ -127,6 +127,10 @@ class FactorGraph {
   std::vector<int> WindowFactors(int first_free) const;
   // batch: every factor in the map.
   std::vector<int> AllFactors() const;
+  // The edges with LineOfSightRows of keyframes from `first` on hold their
+  // keyframe's current pose from now on (before a solve: those rows take
+  // the cameras as given). O(their factors).
+  void HoldCamerasForSightRows(int first);
   // Sets the keyframes the problem holds constant or free (free: index >=
   // first_free, not the gauge); returns the free count. O(problem size).
   int SetKeyframeFreedom(int first_free, int gauge);

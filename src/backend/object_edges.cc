@@ -8,6 +8,7 @@
 #include "symba/factors/asymmetric_object_edge.h"
 #include "symba/factors/continuous_object_edge.h"
 #include "symba/factors/discrete_object_edge.h"
+#include "symba/factors/line_of_sight_rows.h"
 
 namespace symba::internal {
 
@@ -193,7 +194,12 @@ bool ObjectEdges::ApplyNoise(const std::string& class_name,
     applied.claim_scale_t = factor_t;
     applied.claim_scale_r = factor_r;
   }
-  return estimate_moved || white_moved || claims_moved;
+  // How much wider its errors are along the line of sight
+  // (LineOfSightRows).
+  const bool sight_moved =
+      Moved(estimate.sight_anisotropy, applied.sight_anisotropy, ratio);
+  if (sight_moved) applied.sight_anisotropy = estimate.sight_anisotropy;
+  return estimate_moved || white_moved || claims_moved || sight_moved;
 }
 
 EdgeSigmas EffectiveNoise(const ObjectObservation& observation,
@@ -253,6 +259,53 @@ Eigen::Vector3d MeasuredAxis(const ObjectState& object,
 // a_w, theta_i); continuous (or a continuous view of a discrete object) on
 // (T_wc, t_wo, a_w) with the measured axis signed like the map axis.
 std::unique_ptr<ceres::CostFunction> ObjectEdges::BuildEdge(
+    KeyframeState* kf,
+    ObjectState* object,
+    const ObjectObservation& observation,
+    std::vector<double*>* blocks,
+    EdgeSigmas* sigmas) const {
+  std::unique_ptr<ceres::CostFunction> edge =
+      BuildMixtureEdge(kf, object, observation, blocks, sigmas);
+  const std::optional<SightSigmas> sight = SightNoise(*object, observation);
+  if (!sight) return edge;
+  const auto position = std::find(blocks->begin(), blocks->end(), object->t);
+  SYMBA_CHECK(position != blocks->end());
+  const Rigid3d T_wc = kf->T_wc();
+  return std::make_unique<LineOfSightRows>(
+      std::move(edge),
+      static_cast<int>(position - blocks->begin()),
+      observation.T_co_best.t,
+      sight->along,
+      sight->across,
+      T_wc.q,
+      T_wc.t);
+}
+
+std::optional<SightSigmas> ObjectEdges::SightNoise(
+    const ObjectState& object, const ObjectObservation& observation) const {
+  if (!options_.estimate_noise || !options_.sight_rows ||
+      observation.turned_away || observation.claimed_t ||
+      observation.from_scatter || !(observation.T_co_best.t.norm() > 0.0)) {
+    return std::nullopt;
+  }
+  const auto noise = applied_noise_.find(object.class_name);
+  if (noise == applied_noise_.end() || !noise->second.sigma_t) {
+    return std::nullopt;
+  }
+  const double across = UsableNoiseSigma(*noise->second.sigma_t);
+  // Only where the floor weighs the edge: across the line of sight the rows
+  // add what it withholds; along it as much as the class's errors there
+  // allow (kappa times), never more than the floor.
+  if (!(observation.sigma_t > across)) return std::nullopt;
+  const double along =
+      noise->second.sight_anisotropy
+          ? std::min(observation.sigma_t,
+                     std::max(1.0, *noise->second.sight_anisotropy) * across)
+          : observation.sigma_t;
+  return SightSigmas{UsableNoiseSigma(along), across};
+}
+
+std::unique_ptr<ceres::CostFunction> ObjectEdges::BuildMixtureEdge(
     KeyframeState* kf,
     ObjectState* object,
     const ObjectObservation& observation,

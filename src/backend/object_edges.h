@@ -10,6 +10,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,12 @@ namespace symba::internal {
 // position residual of 1 m of 1e-3), while the square-root information stays
 // invertible, as the mixture's normaliser needs.
 constexpr double kUninformativeSigma = 1000.0;
+
+// The sigmas (m) of LineOfSightRows.
+struct SightSigmas {
+  double along = 0.0;
+  double across = 0.0;
+};
 
 struct EdgeSigmas {
   double t = 0.0;  // m
@@ -95,8 +102,22 @@ class ObjectEdges {
   // The edge of object o's observation i.
   void AddFactor(int o, int i);
   void Rebuild(int o, int begin, int end);
-  // `sigmas`: what it weighs the detection with (BuildNoise).
+  // `sigmas`: what it weighs the detection with (BuildNoise). With
+  // LineOfSightRows where SightNoise gives sigmas.
   std::unique_ptr<ceres::CostFunction> BuildEdge(
+      KeyframeState* keyframe,
+      ObjectState* object,
+      const ObjectObservation& observation,
+      std::vector<double*>* blocks,
+      EdgeSigmas* sigmas) const;
+  // The noise along and across the line of sight of an observation whose
+  // edge the floor weighs (undeclared, no scatter, the class's estimate
+  // below the floor): the floor along it, the class's estimate across it;
+  // none otherwise, or before the class has an estimate.
+  std::optional<SightSigmas> SightNoise(
+      const ObjectState& object, const ObjectObservation& observation) const;
+  // The edge for the object's type alone.
+  std::unique_ptr<ceres::CostFunction> BuildMixtureEdge(
       KeyframeState* keyframe,
       ObjectState* object,
       const ObjectObservation& observation,

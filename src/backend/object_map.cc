@@ -545,10 +545,15 @@ void ObjectMap::SampleNoise(int o,
   const bool sample = object.status == ObjectStatus::kConfirmed;
   const bool consecutive = object.chain.last_keyframe == k - 1;
   if (sample && object.chain.count > 0) {
-    noise_.AddTranslation(
-        object.class_name,
-        Kind::kLevel,
-        (p - object.chain.position_sum / object.chain.count).norm());
+    const Eigen::Vector3d level =
+        p - object.chain.position_sum / object.chain.count;
+    noise_.AddTranslation(object.class_name, Kind::kLevel, level.norm());
+    if (t_co.norm() > 0.0) {
+      const Eigen::Vector3d sight = (T_wc_chain.q * t_co).normalized();
+      const double along = level.dot(sight);
+      noise_.AddSightLevel(
+          object.class_name, std::abs(along), (level - along * sight).norm());
+    }
     if (consecutive) {
       noise_.AddTranslation(object.class_name,
                             Kind::kIncrement,

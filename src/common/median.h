@@ -12,6 +12,7 @@ namespace symba::internal {
 
 inline constexpr double kChi3Median = 1.5381722;
 inline constexpr double kChi2Median = 1.1774100;  // sqrt(2 ln 2)
+inline constexpr double kChi1Median = 0.6744898;  // of |x|, x ~ N(0, 1)
 
 // The median of `values` (the mean of the middle two for an even count);
 // reorders them. `values` must not be empty.

@@ -210,6 +210,23 @@ TEST(DetectionNoiseEstimator, EstimatesPerClassOnceThereAreEnoughSamples) {
   EXPECT_DOUBLE_EQ(*noise.Estimate("can").sigma_r, kMinSigmaR);
 }
 
+TEST(DetectionNoiseEstimator, TheSightAnisotropyIsAlongOverAcross) {
+  // Gaussian errors of sigma 3 along the line of sight and 1 across (per
+  // axis): medians 3 kChi1Median and kChi2Median, kappa 3.
+  EXPECT_NEAR(*SightAnisotropy(3.0 * kChi1Median, kChi2Median), 3.0, 1e-12);
+  EXPECT_FALSE(SightAnisotropy(0.1, 0.0).has_value());
+  DetectionNoiseEstimator noise(100, 3);
+  noise.AddSightLevel("box", 0.04, 0.01);
+  noise.AddSightLevel("box", 0.02, 0.03);
+  EXPECT_FALSE(noise.Estimate("box").sight_anisotropy.has_value());
+  noise.AddSightLevel("box", 0.06, 0.02);
+  // Medians 0.04 and 0.02.
+  ASSERT_TRUE(noise.Estimate("box").sight_anisotropy.has_value());
+  EXPECT_NEAR(*noise.Estimate("box").sight_anisotropy,
+              (0.04 / kChi1Median) / (0.02 / kChi2Median),
+              1e-12);
+}
+
 TEST(DetectionNoiseEstimator, ReportsTheSamplesBehindEachEstimate) {
   using Kind = DetectionNoiseEstimator::Kind;
   DetectionNoiseEstimator noise(100, 3);

@@ -251,6 +251,15 @@ struct BackendOptions {
   // has the measurements behind these values).
   double uncalibrated_sigma_t = 2.0;  // m
   double uncalibrated_sigma_r = 3.0;  // rad
+  // With estimate_noise, the edge of a detection weighed at the floor
+  // (undeclared, no scatter) gets three more rows on its object's position
+  // alone: where the detection puts the object given the camera, weighed
+  // across its line of sight at the class's estimate and along it at that
+  // times how much wider the class's errors are along it (at most the
+  // floor; LineOfSightRows; docs/backend.md "Real detectors", mechanism 8).
+  // The rows do not pull the cameras; the object is placed by its views'
+  // sight lines.
+  bool sight_rows = true;
   // With estimate_noise, a detection that gives no sigma but whose
   // categorisation kept at least scatter_min_hypotheses hypotheses is
   // weighed with their spread about their modes (MeasureHypothesisScatter:

@@ -161,21 +161,24 @@ int FactorGraph::SetKeyframeFreedom(int first_free, int gauge) {
 
 void FactorGraph::SolveWindow(int first, SolveOutcome* outcome) {
   if (options_.window_policy != WindowPolicy::kCondition) {
+    // A leaving keyframe's edges are linearised with its current pose.
+    for (int k = marginalized_until_; k < first; ++k) {
+      HoldCamerasForSightRows(keyframes_[k]->factors);
+    }
     while (marginalized_until_ < first) LeaveWindow(marginalized_until_++);
   }
-  HoldCamerasForSightRows(std::max(first, 0));
-  Solve(options_.max_iterations, Prepare(false, first), outcome);
+  const int free_keyframes = Prepare(false, first);
+  HoldCamerasForSightRows(problem_.in_problem());
+  Solve(options_.max_iterations, free_keyframes, outcome);
 }
 
-void FactorGraph::HoldCamerasForSightRows(int first) {
-  for (size_t k = static_cast<size_t>(first); k < keyframes_.size(); ++k) {
-    const KeyframeState& kf = *keyframes_[k];
-    const Rigid3d T_wc = kf.T_wc();
-    for (int f : kf.factors) {
-      auto* sight =
-          dynamic_cast<LineOfSightRows*>(problem_.factor(f).cost.get());
-      if (sight != nullptr) sight->Refresh(T_wc.q, T_wc.t);
-    }
+void FactorGraph::HoldCamerasForSightRows(const std::vector<int>& factors) {
+  for (int f : factors) {
+    const FactorRecord& record = problem_.factor(f);
+    auto* sight = dynamic_cast<LineOfSightRows*>(record.cost.get());
+    if (sight == nullptr || record.keyframe < 0) continue;
+    const Rigid3d T_wc = keyframes_[record.keyframe]->T_wc();
+    sight->Refresh(T_wc.q, T_wc.t);
   }
 }
 
@@ -185,8 +188,9 @@ Status FactorGraph::SolveBatch(SolveOutcome* outcome) {
         "no batch solve: keyframes left the window and their factors were "
         "freed (set BackendOptions::keep_history to keep them)");
   }
-  HoldCamerasForSightRows(0);
-  Solve(options_.batch_max_iterations, Prepare(true, 0), outcome);
+  const int free_keyframes = Prepare(true, 0);
+  HoldCamerasForSightRows(problem_.in_problem());
+  Solve(options_.batch_max_iterations, free_keyframes, outcome);
   return Status::Ok();
 }
 

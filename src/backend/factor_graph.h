@@ -127,10 +127,11 @@ class FactorGraph {
   std::vector<int> WindowFactors(int first_free) const;
   // batch: every factor in the map.
   std::vector<int> AllFactors() const;
-  // The edges with LineOfSightRows of keyframes from `first` on hold their
-  // keyframe's current pose from now on (before a solve: those rows take
-  // the cameras as given). O(their factors).
-  void HoldCamerasForSightRows(int first);
+  // Those of `factors` that are edges with LineOfSightRows hold their
+  // keyframe's current pose from now on (before a solve, over the factors
+  // in its problem, and before a keyframe leaves the window, over its
+  // factors: those rows take the cameras as given). O(factors).
+  void HoldCamerasForSightRows(const std::vector<int>& factors);
   // Sets the keyframes the problem holds constant or free (free: index >=
   // first_free, not the gauge); returns the free count. O(problem size).
   int SetKeyframeFreedom(int first_free, int gauge);

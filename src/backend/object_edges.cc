@@ -197,6 +197,7 @@ bool ObjectEdges::ApplyNoise(const std::string& class_name,
   // How much wider its errors are along the line of sight
   // (LineOfSightRows).
   const bool sight_moved =
+      options_.sight_rows &&
       Moved(estimate.sight_anisotropy, applied.sight_anisotropy, ratio);
   if (sight_moved) applied.sight_anisotropy = estimate.sight_anisotropy;
   return estimate_moved || white_moved || claims_moved || sight_moved;

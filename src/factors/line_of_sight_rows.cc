@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <limits>
 #include <utility>
+#include <vector>
+
+#include "symba/common/check.h"
 
 namespace symba {
 
@@ -21,6 +24,10 @@ LineOfSightRows::LineOfSightRows(std::unique_ptr<ceres::CostFunction> edge,
       sigma_along_(sigma_along),
       sigma_across_(sigma_across) {
   *mutable_parameter_block_sizes() = edge_->parameter_block_sizes();
+  SYMBA_CHECK(position_block_ >= 0 &&
+              position_block_ <
+                  static_cast<int>(parameter_block_sizes().size()) &&
+              parameter_block_sizes()[position_block_] == 3);
   set_num_residuals(edge_->num_residuals() + 3);
   Refresh(q_wc, t_wc);
 }

@@ -77,6 +77,34 @@ TEST(LineOfSightRowsTest, RowsWeighAlongAndAcrossTheSightLine) {
   }
 }
 
+TEST(LineOfSightRowsTest, OnlyTheAskedJacobiansAreWritten) {
+  const Eigen::Vector3d t_co(0.1, -0.2, 2.0);
+  LineOfSightRows rows(
+      TwoHypothesisEdge(Rigid3d(Eigen::Quaterniond::Identity(), t_co), 1, 1),
+      3,
+      t_co,
+      2.0,
+      0.05,
+      Eigen::Quaterniond::Identity(),
+      Eigen::Vector3d::Zero());
+  testing::PoseBlocks camera((Rigid3d()));
+  testing::PoseBlocks object(Rigid3d(Eigen::Quaterniond::Identity(),
+                                     Eigen::Vector3d(0.15, -0.2, 2.3)));
+  const std::vector<double*> parameters = {
+      camera.q, camera.t, object.q, object.t};
+  const testing::Evaluation all =
+      testing::EvaluateWithJacobians(rows, parameters);
+  ASSERT_TRUE(all.ok);
+  // The object's position only; the other pointers null.
+  Eigen::Matrix<double, 10, 3, Eigen::RowMajor> position;
+  position.setConstant(-7.0);
+  double* jacobians[] = {nullptr, nullptr, nullptr, position.data()};
+  Eigen::Matrix<double, 10, 1> residuals;
+  ASSERT_TRUE(rows.Evaluate(parameters.data(), residuals.data(), jacobians));
+  EXPECT_EQ(residuals, all.residuals);
+  EXPECT_EQ(Eigen::MatrixXd(position), Eigen::MatrixXd(all.jacobians[3]));
+}
+
 TEST(LineOfSightRowsTest, RefreshMovesTheHeldCameraAndItsSightLine) {
   const Eigen::Vector3d t_co(0.0, 0.0, 2.0);
   LineOfSightRows rows(

@@ -31,6 +31,19 @@ std::unique_ptr<ceres::CostFunction> TwoHypothesisEdge(const Rigid3d& T_co,
   return edge;
 }
 
+// Rows of 2 m along and 5 cm across the sight line to t_co, the camera at
+// the world origin with the identity rotation.
+LineOfSightRows RowsFromTheOrigin(const Eigen::Vector3d& t_co) {
+  return LineOfSightRows(
+      TwoHypothesisEdge(Rigid3d(Eigen::Quaterniond::Identity(), t_co), 1, 1),
+      3,
+      t_co,
+      2.0,
+      0.05,
+      Eigen::Quaterniond::Identity(),
+      Eigen::Vector3d::Zero());
+}
+
 // The camera at the world origin looking along world z; the detection 2 m
 // ahead, at (0, 0, 2): its line of sight is z.
 TEST(LineOfSightRowsTest, RowsWeighAlongAndAcrossTheSightLine) {
@@ -79,14 +92,7 @@ TEST(LineOfSightRowsTest, RowsWeighAlongAndAcrossTheSightLine) {
 
 TEST(LineOfSightRowsTest, OnlyTheAskedJacobiansAreWritten) {
   const Eigen::Vector3d t_co(0.1, -0.2, 2.0);
-  LineOfSightRows rows(
-      TwoHypothesisEdge(Rigid3d(Eigen::Quaterniond::Identity(), t_co), 1, 1),
-      3,
-      t_co,
-      2.0,
-      0.05,
-      Eigen::Quaterniond::Identity(),
-      Eigen::Vector3d::Zero());
+  LineOfSightRows rows = RowsFromTheOrigin(t_co);
   testing::PoseBlocks camera((Rigid3d()));
   testing::PoseBlocks object(Rigid3d(Eigen::Quaterniond::Identity(),
                                      Eigen::Vector3d(0.15, -0.2, 2.3)));
@@ -107,14 +113,7 @@ TEST(LineOfSightRowsTest, OnlyTheAskedJacobiansAreWritten) {
 
 TEST(LineOfSightRowsTest, RefreshMovesTheHeldCameraAndItsSightLine) {
   const Eigen::Vector3d t_co(0.0, 0.0, 2.0);
-  LineOfSightRows rows(
-      TwoHypothesisEdge(Rigid3d(Eigen::Quaterniond::Identity(), t_co), 1, 1),
-      3,
-      t_co,
-      2.0,
-      0.05,
-      Eigen::Quaterniond::Identity(),
-      Eigen::Vector3d::Zero());
+  LineOfSightRows rows = RowsFromTheOrigin(t_co);
   EXPECT_TRUE(rows.world_position().isApprox(Eigen::Vector3d(0, 0, 2)));
   // Turned by 90 degrees about y and moved by (1, 0, 0): the sight line is
   // now world x, the detection at (3, 0, 0).
